@@ -1,0 +1,23 @@
+/* Internal error reporting: record a result and a message for the calling thread. */
+#ifndef VBL_CORE_ERROR_H
+#define VBL_CORE_ERROR_H
+
+#include "vbl/vbl_core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Records `fmt` (printf style) as the calling thread's error message and returns `result`,
+ * so a failing function can `return vbl_error(VBL_ERROR_SCENE, "%s: field 'x' ...", path);`. */
+vbl_result vbl_error(vbl_result result, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

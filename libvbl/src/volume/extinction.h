@@ -1,0 +1,59 @@
+/* The extinction field of a scene's media: one or more volumes, each with a density scale and
+ * an optional affine placement, whose coefficients add where they overlap. Every tracking
+ * estimator and the renderer see media only through this interface. Extinction is grey
+ * (sigma_t = density_scale * value); colour lives in the albedo. */
+#ifndef VBL_VOLUME_EXTINCTION_H
+#define VBL_VOLUME_EXTINCTION_H
+
+#include "volume/grid_sample.h"
+#include "volume/majorant_iter.h"
+
+#define VBL_MAX_MEDIA 8
+
+typedef struct vbl_medium_component {
+    const vbl_volume* volume;
+    double density_scale;        /* sigma_t = density_scale * grid value, per world unit */
+    vbl_affine scene_to_volume;  /* scene world -> the volume's own world space */
+} vbl_medium_component;
+
+typedef struct vbl_extinction {
+    vbl_medium_component components[VBL_MAX_MEDIA];
+    int count;
+    double max_sigma_t;  /* global majorant: sum over components of scale * global max */
+} vbl_extinction;
+
+/* Per-thread state: one accessor per component, and a lookup counter. */
+typedef struct vbl_extinction_cursor {
+    vbl_grid_accessor accessors[VBL_MAX_MEDIA];
+    int count;
+} vbl_extinction_cursor;
+
+void vbl_extinction_cursor_init(vbl_extinction_cursor* cursor, const vbl_extinction* ext);
+uint64_t vbl_extinction_cursor_lookups(const vbl_extinction_cursor* cursor);
+
+/* sigma_t at a scene-space point; if `per_component` is not NULL it receives each component's
+ * sigma_t (for mixing albedo and phase functions by sigma_s). */
+double vbl_extinction_eval(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 point,
+                           double* per_component);
+
+/* Merged majorant segments over all components along a scene-space ray (t is preserved by the
+ * affine maps). Majorant/minorant are in sigma_t units (scaled and summed). */
+typedef struct vbl_extinction_iter {
+    const vbl_extinction* ext;
+    vbl_majorant_iter iters[VBL_MAX_MEDIA];
+    vbl_majorant_segment pending[VBL_MAX_MEDIA];
+    int has_pending[VBL_MAX_MEDIA];
+    double t, t_end;
+    int use_global; /* 1: one segment [tmin,tmax] with the global majorant (parity tests) */
+} vbl_extinction_iter;
+
+void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* ext, vbl_vec3 origin,
+                              vbl_vec3 direction, double tmin, double tmax, int use_global_majorant);
+int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* segment);
+
+/* Conservative parameter interval where the ray overlaps any component's support; returns 0
+ * if none. */
+int vbl_extinction_ray_bounds(const vbl_extinction* ext, vbl_vec3 origin, vbl_vec3 direction,
+                              double tmin, double tmax, double* t_enter, double* t_exit);
+
+#endif

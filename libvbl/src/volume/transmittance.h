@@ -1,0 +1,30 @@
+/* Transmittance estimators and free-flight sampling over an extinction field. All of them walk
+ * the same merged majorant segments (extinction.h); each counts its density lookups in the
+ * cursor. Rays are scene-space origin + t * direction, t in [t0, t1]. */
+#ifndef VBL_VOLUME_TRANSMITTANCE_H
+#define VBL_VOLUME_TRANSMITTANCE_H
+
+#include "core/rng.h"
+#include "volume/extinction.h"
+
+typedef struct vbl_tracking_settings {
+    vbl_transmittance_estimator estimator;
+    double march_step;        /* ray marching step (world units); <= 0: adaptive */
+    int use_global_majorant;  /* 1: ignore the majorant grid (parity tests, benchmarks) */
+} vbl_tracking_settings;
+
+/* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached
+ * estimators are not valid here (use transmittance_cache.h). */
+double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_cursor* cursor,
+                                  vbl_vec3 origin, vbl_vec3 direction, double t0, double t1,
+                                  const vbl_tracking_settings* settings, vbl_rng* rng);
+
+/* Delta-tracking free-flight sampling: draws a real collision at t in (t0, t1) with density
+ * sigma_t(t) T(t0, t). Returns 1 and sets *t_collision and *sigma_t_at (and per-component
+ * sigma_t when `per_component` is not NULL) on a collision, 0 if the ray passes t1 (probability
+ * T(t0, t1)). */
+int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, double t0, double t1, int use_global_majorant,
+                           vbl_rng* rng, double* t_collision, double* sigma_t_at, double* per_component);
+
+#endif

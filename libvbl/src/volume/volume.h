@@ -1,0 +1,55 @@
+/* The in-memory volume: a NanoVDB float grid (PNanoVDB access) and its block majorant grid. */
+#ifndef VBL_VOLUME_VOLUME_H
+#define VBL_VOLUME_VOLUME_H
+
+#define PNANOVDB_C
+#include <nanovdb/PNanoVDB.h>
+
+#include "core/math.h"
+#include "vbl/vbl_volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Block max/min of the trilinear support, in index space. Block (bx,by,bz) covers index cells
+ * [origin + b*block, origin + (b+1)*block) and stores the max (and min) of every value that
+ * trilinear interpolation inside it can touch (its voxels and the one-voxel neighbour shell). */
+typedef struct vbl_majorant_grid {
+    int block;          /* block edge in voxels */
+    int origin[3];      /* index coordinate of block (0,0,0)'s lower corner */
+    int dims[3];        /* blocks per axis */
+    float* max_density; /* dims[0]*dims[1]*dims[2], x fastest */
+    float* min_density;
+    double global_max, global_min;
+} vbl_majorant_grid;
+
+struct vbl_volume {
+    int refcount;
+    void* nanovdb_buffer;          /* 32-byte aligned, owned */
+    size_t nanovdb_size;
+    pnanovdb_buf_t buf;
+    pnanovdb_grid_handle_t grid;
+    pnanovdb_root_handle_t root;
+    vbl_affine index_to_world;
+    vbl_affine world_to_index;
+    vbl_volume_info info;
+    vbl_majorant_grid majorant;
+};
+
+/* Wraps a NanoVDB float grid buffer (takes ownership of `buffer`, allocated with
+ * vbl_aligned_alloc), validates it, computes statistics, applies the bad-voxel policy and builds
+ * the majorant grid. `path`/`grid_index` are for messages and info. */
+vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char* path,
+                                          int grid_index, const vbl_volume_load_options* options,
+                                          vbl_volume** out_volume);
+
+/* Majorant grid lifecycle (majorant_grid.c). */
+vbl_result vbl_majorant_grid_build(vbl_majorant_grid* grid, const vbl_volume* volume, int block);
+void vbl_majorant_grid_free(vbl_majorant_grid* grid);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

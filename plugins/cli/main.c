@@ -1,0 +1,73 @@
+/* `vbl`: entry point, --help/--version and sub-command dispatch. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+typedef struct vbl_cli_command {
+    const char* name;
+    int (*run)(int argc, char** argv);
+    const char* summary;
+} vbl_cli_command;
+
+static const vbl_cli_command vbl_cli_commands[] = {
+    {"info", vbl_cmd_info, "describe the grids of a .vdb/.nvdb file"},
+    {"transmittance", vbl_cmd_transmittance, "render a transmittance image of a volume"},
+    {"render", vbl_cmd_render, "render a scene file to a multi-layer EXR"},
+};
+
+static void vbl_cli_print_help(FILE* out)
+{
+    fprintf(out,
+            "vbl %s - render OpenVDB volumes with virtual ray and beam lights\n\n"
+            "usage: vbl <command> [options]\n       vbl --version | --help\n\ncommands:\n",
+            vbl_version_string());
+    for (size_t i = 0; i < sizeof vbl_cli_commands / sizeof vbl_cli_commands[0]; ++i)
+        fprintf(out, "  %-14s %s\n", vbl_cli_commands[i].name, vbl_cli_commands[i].summary);
+    fprintf(out, "\n'vbl <command> --help' describes a command's options.\n");
+}
+
+int vbl_cli_exit_code(vbl_result result)
+{
+    switch (result) {
+    case VBL_SUCCESS: return VBL_EXIT_OK;
+    case VBL_ERROR_INVALID_ARGUMENT: return VBL_EXIT_USAGE;
+    case VBL_ERROR_FILE_IO: return VBL_EXIT_IO;
+    case VBL_ERROR_INTERRUPTED: return VBL_EXIT_INTERRUPTED;
+    case VBL_ERROR_FILE_NOT_FOUND:
+    case VBL_ERROR_CORRUPT_FILE:
+    case VBL_ERROR_UNSUPPORTED:
+    case VBL_ERROR_GRID_NOT_FOUND:
+    case VBL_ERROR_GRID_TYPE:
+    case VBL_ERROR_BAD_VOXELS:
+    case VBL_ERROR_SCENE: return VBL_EXIT_BAD_INPUT;
+    default: return VBL_EXIT_FAILURE;
+    }
+}
+
+int vbl_cli_fail(vbl_result result)
+{
+    const char* message = vbl_last_error_message();
+    fprintf(stderr, "vbl: %s\n", message && message[0] ? message : vbl_result_name(result));
+    return vbl_cli_exit_code(result);
+}
+
+int main(int argc, char** argv)
+{
+    if (argc < 2) {
+        vbl_cli_print_help(stderr);
+        return VBL_EXIT_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        vbl_cli_print_help(stdout);
+        return VBL_EXIT_OK;
+    }
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
+        printf("vbl %s\n", vbl_version_string());
+        return VBL_EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof vbl_cli_commands / sizeof vbl_cli_commands[0]; ++i)
+        if (!strcmp(argv[1], vbl_cli_commands[i].name)) return vbl_cli_commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "vbl: unknown command '%s' (see 'vbl --help')\n", argv[1]);
+    return VBL_EXIT_USAGE;
+}
