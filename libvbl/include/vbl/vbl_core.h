@@ -49,6 +49,14 @@ VBL_API const char* vbl_result_name(vbl_result result);
 /* The message of the last failure on the calling thread ("" if none). */
 VBL_API const char* vbl_last_error_message(void);
 
+/* Records a failure for the calling thread (printf-style message naming the file/field at
+ * fault) and returns `result`. For plug-ins and adapters that report through libvbl's channel. */
+VBL_API vbl_result vbl_report_error(vbl_result result, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* Clears the calling thread's error message. */
 VBL_API void vbl_clear_error(void);
 

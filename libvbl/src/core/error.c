@@ -6,7 +6,7 @@
 
 static _Thread_local char vbl_error_message_buffer[2048];
 
-vbl_result vbl_error(vbl_result result, const char* fmt, ...)
+vbl_result vbl_report_error(vbl_result result, const char* fmt, ...)
 {
     va_list args;
     va_start(args, fmt);

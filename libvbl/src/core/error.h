@@ -10,11 +10,7 @@ extern "C" {
 
 /* Records `fmt` (printf style) as the calling thread's error message and returns `result`,
  * so a failing function can `return vbl_error(VBL_ERROR_SCENE, "%s: field 'x' ...", path);`. */
-vbl_result vbl_error(vbl_result result, const char* fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
+#define vbl_error vbl_report_error
 
 #ifdef __cplusplus
 }
