@@ -14,6 +14,7 @@ static const vbl_cli_command vbl_cli_commands[] = {
     {"info", vbl_cmd_info, "describe the grids of a .vdb/.nvdb file"},
     {"transmittance", vbl_cmd_transmittance, "render a transmittance image of a volume"},
     {"render", vbl_cmd_render, "render a scene file to a multi-layer EXR"},
+    {"preview", vbl_cmd_preview, "write a PNG of an EXR layer through an OCIO display/view"},
 };
 
 static void vbl_cli_print_help(FILE* out)

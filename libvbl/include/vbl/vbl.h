@@ -6,5 +6,6 @@
 
 #include "vbl/vbl_core.h"
 #include "vbl/vbl_volume.h"
+#include "vbl/vbl_render.h"
 
 #endif /* VBL_H */

@@ -101,6 +101,23 @@ VBL_API vbl_result vbl_volume_transmittance(const vbl_volume* volume, const doub
 VBL_API const char* vbl_transmittance_estimator_name(vbl_transmittance_estimator estimator);
 VBL_API vbl_result vbl_transmittance_estimator_parse(const char* name, vbl_transmittance_estimator* out);
 
+/* ---- Grid listing (for `vbl info`; VDB loading, issue 2) ---------------------------------- */
+
+/* One grid of a .vdb/.nvdb file as stored (float or not), in file order. */
+typedef struct vbl_grid_description {
+    char name[256];
+    char type[64];            /* "float", "half float", "vec3s", "int32", ... */
+    int is_float;             /* loadable with vbl_volume_load */
+    uint64_t active_voxels;
+    int index_bbox_min[3], index_bbox_max[3]; /* inclusive; min > max when empty */
+    double voxel_size[3];
+    char codec[64];           /* "blosc + active mask", "zip + active mask", "nanovdb BLOSC", ... */
+} vbl_grid_description;
+
+/* Lists every grid of a file; free the array with vbl_grid_descriptions_free. */
+VBL_API vbl_result vbl_file_list_grids(const char* path, vbl_grid_description** out_grids, size_t* out_count);
+VBL_API void vbl_grid_descriptions_free(vbl_grid_description* grids);
+
 #ifdef __cplusplus
 }
 #endif

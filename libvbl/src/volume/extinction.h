@@ -22,6 +22,13 @@ typedef struct vbl_extinction {
     double max_sigma_t;  /* global majorant: sum over components of scale * global max */
 } vbl_extinction;
 
+/* Builds an extinction field: init empties it; add appends a component (scene_to_volume NULL =
+ * identity) and keeps max_sigma_t up to date. Returns VBL_ERROR_UNSUPPORTED past VBL_MAX_MEDIA and
+ * VBL_ERROR_INVALID_ARGUMENT for a negative or non-finite density_scale. */
+void vbl_extinction_init(vbl_extinction* ext);
+vbl_result vbl_extinction_add(vbl_extinction* ext, const vbl_volume* volume, double density_scale,
+                              const vbl_affine* scene_to_volume);
+
 /* Per-thread state: one accessor per component, and a lookup counter. */
 typedef struct vbl_extinction_cursor {
     vbl_grid_accessor accessors[VBL_MAX_MEDIA];

@@ -17,6 +17,7 @@ typedef struct vbl_majorant_iter {
     double t, t_end;
     int cell[3], step[3], done;
     double t_next[3], t_delta[3];
+    double org[3], inv_dir[3]; /* ray in block units: (index - grid origin) / block */
 } vbl_majorant_iter;
 
 /* Ray in *world* space of the volume: origin + t * direction, t in [tmin, tmax]. Segments come

@@ -1,0 +1,192 @@
+/* bench_volume [FILE.vdb] [--density-scale S]: density lookups/s (PNanoVDB trilinear vs OpenVDB
+ * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
+ * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/rng.h"
+#include "volume/transmittance_cache.h"
+
+double vbl_bench_openvdb_lookups(const char* path, const char* grid_name, const double* points, size_t n,
+                                 double* checksum);
+
+static double now(void) { return omp_get_wtime(); }
+
+typedef struct bench_ray { vbl_vec3 o, d; double t1; } bench_ray;
+
+static void make_points(const vbl_volume_info* info, double* pts, size_t n, int coherent)
+{
+    vbl_rng rng = vbl_rng_make(1, 2, (uint64_t)coherent);
+    double lo[3], ext[3];
+    for (int a = 0; a < 3; ++a) lo[a] = info->world_bbox_min[a], ext[a] = info->world_bbox_max[a] - lo[a];
+    double step = 0.5 * fmin(info->voxel_size[0], fmin(info->voxel_size[1], info->voxel_size[2]));
+    vbl_vec3 p = vbl_v3(0, 0, 0), d = vbl_v3(1, 0, 0);
+    for (size_t i = 0; i < n; ++i) {
+        if (!coherent || i % 256 == 0) {
+            p = vbl_v3(lo[0] + ext[0] * vbl_rng_uniform(&rng), lo[1] + ext[1] * vbl_rng_uniform(&rng),
+                       lo[2] + ext[2] * vbl_rng_uniform(&rng));
+            d = vbl_v3_normalize(vbl_v3(vbl_rng_uniform(&rng) - 0.5, vbl_rng_uniform(&rng) - 0.5, vbl_rng_uniform(&rng) - 0.5));
+        } else {
+            p = vbl_v3_madd(p, d, step); /* along a ray: half-voxel steps (tracking-like access) */
+        }
+        pts[3 * i] = p.x, pts[3 * i + 1] = p.y, pts[3 * i + 2] = p.z;
+    }
+}
+
+/* Rays through the bbox: random origin on a sphere around it, aimed at a random interior point. */
+static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
+{
+    vbl_rng rng = vbl_rng_make(3, 4, 5);
+    double c[3], r = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        c[a] = 0.5 * (info->world_bbox_min[a] + info->world_bbox_max[a]);
+        double e = info->world_bbox_max[a] - info->world_bbox_min[a];
+        r += 0.25 * e * e;
+    }
+    r = sqrt(r);
+    for (int i = 0; i < n; ++i) {
+        double z = 2 * vbl_rng_uniform(&rng) - 1, phi = 2 * VBL_PI * vbl_rng_uniform(&rng), s = sqrt(1 - z * z);
+        vbl_vec3 o = vbl_v3(c[0] + r * s * cos(phi), c[1] + r * s * sin(phi), c[2] + r * z);
+        vbl_vec3 target = vbl_v3(c[0] + 0.3 * r * (vbl_rng_uniform(&rng) - 0.5), c[1] + 0.3 * r * (vbl_rng_uniform(&rng) - 0.5),
+                                 c[2] + 0.3 * r * (vbl_rng_uniform(&rng) - 0.5));
+        rays[i].o = o;
+        rays[i].d = vbl_v3_normalize(vbl_v3_sub(target, o));
+        rays[i].t1 = 2.0 * r;
+    }
+}
+
+/* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
+static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, int nrays, int spr,
+                            vbl_transmittance_estimator est, int use_global, int threads, double* mean_var,
+                            double* mean_t, double* lookups_per_query)
+{
+    double var_sum = 0.0, t_sum = 0.0;
+    unsigned long long lookups = 0;
+    double t0 = now();
+#pragma omp parallel num_threads(threads) reduction(+ : var_sum, t_sum, lookups)
+    {
+        vbl_extinction_cursor cur;
+        vbl_extinction_cursor_init(&cur, ext);
+        vbl_tracking_settings set = {est, 0.0, use_global};
+#pragma omp for schedule(dynamic, 4)
+        for (int r = 0; r < nrays; ++r) {
+            double s = 0.0, s2 = 0.0;
+            for (int k = 0; k < spr; ++k) {
+                vbl_rng rng = vbl_rng_make(77, (uint64_t)r, (uint64_t)k);
+                double x;
+                if (est == VBL_TRANSMITTANCE_CACHED_DELTA || est == VBL_TRANSMITTANCE_CACHED_RATIO) {
+                    vbl_transmittance_cache cache;
+                    vbl_transmittance_cache_build(&cache, est, ext, &cur, rays[r].o, rays[r].d, 0.0, rays[r].t1, 16,
+                                                  use_global, &rng);
+                    x = vbl_transmittance_cache_eval(&cache, rays[r].t1);
+                } else {
+                    x = vbl_transmittance_estimate(ext, &cur, rays[r].o, rays[r].d, 0.0, rays[r].t1, &set, &rng);
+                }
+                s += x;
+                s2 += x * x;
+            }
+            double m = s / spr;
+            var_sum += fmax(s2 / spr - m * m, 0.0) * spr / (spr - 1.0);
+            t_sum += m;
+        }
+        lookups += vbl_extinction_cursor_lookups(&cur);
+    }
+    double secs = now() - t0;
+    *mean_var = var_sum / nrays;
+    *mean_t = t_sum / nrays;
+    *lookups_per_query = (double)lookups / ((double)nrays * spr);
+    return secs;
+}
+
+int main(int argc, char** argv)
+{
+    const char* path = VBL_BENCH_DEFAULT_VDB;
+    double scale = 0.0; /* 0: chosen so the mean transmittance is moderate */
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--density-scale") && i + 1 < argc) scale = atof(argv[++i]);
+        else path = argv[i];
+    }
+    vbl_volume_load_options lopt = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+    vbl_volume* v = NULL;
+    if (vbl_volume_load(path, &lopt, &v) != VBL_SUCCESS) {
+        fprintf(stderr, "bench_volume: %s\n", vbl_last_error_message());
+        return 1;
+    }
+    vbl_volume_info info;
+    info.size = sizeof info;
+    vbl_volume_get_info(v, &info);
+    printf("# %s: grid '%s', %llu active voxels, voxel size %g, values [%g, %g], OpenMP max threads %d\n", path,
+           info.grid_name, (unsigned long long)info.active_voxels, info.voxel_size[0], info.value_min, info.value_max,
+           omp_get_max_threads());
+
+    /* 1. Lookups. */
+    const size_t n = 4000000;
+    double* pts = malloc(sizeof(double) * 3 * n);
+    printf("\n## Density lookups (1 thread, trilinear)\n| access pattern | PNanoVDB lookups/s | OpenVDB BoxSampler lookups/s | ratio |\n|---|---|---|---|\n");
+    for (int coherent = 0; coherent < 2; ++coherent) {
+        make_points(&info, pts, n, coherent);
+        vbl_grid_accessor acc;
+        vbl_grid_accessor_init(&acc, v);
+        double sum = 0.0, t0 = now();
+        for (size_t i = 0; i < n; ++i)
+            sum += vbl_grid_sample_world(&acc, vbl_v3(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]), VBL_FILTER_TRILINEAR);
+        double tp = now() - t0, ref = 0.0;
+        double to = vbl_bench_openvdb_lookups(path, info.grid_name, pts, n, &ref);
+        if (fabs(sum - ref) > 1e-5 * fabs(ref) + 1e-9) fprintf(stderr, "checksum mismatch %.9g vs %.9g\n", sum, ref);
+        printf("| %s | %.3g | %.3g | %.2fx |\n", coherent ? "along rays (half-voxel steps)" : "random points", n / tp,
+               n / to, to / tp);
+    }
+    free(pts);
+
+    int nrays = 2000;
+    bench_ray* rays = malloc(sizeof *rays * (size_t)nrays);
+    make_rays(&info, rays, nrays);
+    if (scale <= 0.0) scale = 4.0 / (info.value_max * 64.0 * info.voxel_size[0]); /* ~ tau 4 across 64 voxels of max */
+
+    /* 2. Majorant block size. */
+    printf("\n## Majorant block size (ratio tracking, 1 thread, density scale %g)\n| block | build s | majorant KiB | queries/s | lookups/query |\n|---|---|---|---|---|\n", scale);
+    for (int b = 4; b <= 32; b *= 2) {
+        vbl_volume_load_options o2 = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+        o2.majorant_block_size = b;
+        vbl_volume* vb = NULL;
+        double t0 = now();
+        if (vbl_volume_load(path, &o2, &vb) != VBL_SUCCESS) continue;
+        double build = now() - t0;
+        vbl_extinction ext;
+        vbl_extinction_init(&ext);
+        vbl_extinction_add(&ext, vb, scale, NULL);
+        double var, mt, lq;
+        double secs = run_estimator(&ext, rays, nrays, 16, VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 1, &var, &mt, &lq);
+        size_t bytes = (size_t)vb->majorant.dims[0] * vb->majorant.dims[1] * vb->majorant.dims[2] * 8u;
+        printf("| %d | %.3f | %.0f | %.3g | %.1f |\n", b, build, bytes / 1024.0, nrays * 16.0 / secs, lq);
+        vbl_volume_release(vb);
+    }
+
+    /* 3. Estimators. */
+    vbl_extinction ext;
+    vbl_extinction_init(&ext);
+    vbl_extinction_add(&ext, v, scale, NULL);
+    const int spr = 32;
+    printf("\n## Transmittance estimators (%d rays x %d estimates, density scale %g)\n", nrays, spr, scale);
+    printf("| estimator | majorant | mean T | variance | lookups/query | queries/s 1 thread | queries/s 2 threads | efficiency 1/(var x s) |\n|---|---|---|---|---|---|---|---|\n");
+    for (int e = 0; e <= VBL_TRANSMITTANCE_CACHED_RATIO; ++e)
+        for (int g = 0; g < 2; ++g) {
+            if (g == 1 && e != VBL_TRANSMITTANCE_RATIO_TRACKING && e != VBL_TRANSMITTANCE_DELTA_TRACKING) continue;
+            double var, mt, lq, var2, mt2, lq2;
+            double s1 = run_estimator(&ext, rays, nrays, spr, (vbl_transmittance_estimator)e, g, 1, &var, &mt, &lq);
+            double s2 = run_estimator(&ext, rays, nrays, spr, (vbl_transmittance_estimator)e, g, 2, &var2, &mt2, &lq2);
+            double q = (double)nrays * spr, tq = s1 / q;
+            char eff[32];
+            if (var > 0.0) snprintf(eff, sizeof eff, "%.3g", 1.0 / (var * tq));
+            else snprintf(eff, sizeof eff, "n/a (biased)");
+            printf("| %s | %s | %.4f | %.3g | %.1f | %.3g | %.3g | %s |\n",
+                   vbl_transmittance_estimator_name((vbl_transmittance_estimator)e), g ? "global" : "DDA", mt, var, lq,
+                   q / s1, q / s2, e == VBL_TRANSMITTANCE_RAY_MARCHING ? "n/a (biased)" : eff);
+        }
+    free(rays);
+    vbl_volume_release(v);
+    return 0;
+}

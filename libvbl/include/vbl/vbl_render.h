@@ -1,0 +1,157 @@
+/* libvbl rendering: scenes (JSON), render options, the progressive driver and its film.
+ *
+ *   vbl_scene* scene;  vbl_scene_load("scene.json", &scene);
+ *   vbl_render_options options = VBL_RENDER_OPTIONS_DEFAULT;
+ *   vbl_scene_render_options(scene, &options);      // the scene's `render` block
+ *   options.passes = 8;                              // caller overrides
+ *   vbl_film* film;  vbl_render(scene, &options, &film);
+ *   const float* rgb = vbl_film_layer(film, "volume_direct", &channels);
+ *
+ * Every film layer is radiance (linear, scene-referred); the transport layers (emission,
+ * volume_direct, volume_from_volume) sum to the beauty layer exactly in float, in that order. */
+#ifndef VBL_RENDER_H
+#define VBL_RENDER_H
+
+#include "vbl/vbl_core.h"
+#include "vbl/vbl_volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- scenes ---------------------------------------------------------------------------- */
+
+/* A parsed scene: camera, lights, media (VDB volumes loaded), render settings. Immutable after
+ * loading, reference counted; share it between threads and renders. */
+typedef struct vbl_scene vbl_scene;
+
+typedef struct vbl_scene_load_options {
+    size_t size;                    /* sizeof(vbl_scene_load_options) */
+    /* Replaces media[i].vdb for i < vdb_override_count (NULL entries keep the scene's path).
+     * Override paths are used as given (relative to the working directory). */
+    const char* const* vdb_overrides;
+    int vdb_override_count;
+} vbl_scene_load_options;
+
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0}
+
+/* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
+ * against the scene file's directory. Failures name the file and field, e.g.
+ * "scene.json: media[0].phase.g = 1.2 is outside (-1, 1)" (VBL_ERROR_SCENE), or pass on the
+ * volume loader's result (VBL_ERROR_FILE_NOT_FOUND, ...) prefixed with the field. */
+VBL_API vbl_result vbl_scene_load(const char* path, vbl_scene** out_scene);
+VBL_API vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options,
+                                     vbl_scene** out_scene);
+VBL_API void vbl_scene_retain(vbl_scene* scene);
+VBL_API void vbl_scene_release(vbl_scene* scene);
+
+VBL_API const char* vbl_scene_path(const vbl_scene* scene);
+VBL_API void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height);
+VBL_API int vbl_scene_light_count(const vbl_scene* scene);
+VBL_API int vbl_scene_medium_count(const vbl_scene* scene);
+/* The resolved VDB path of media[index] (NULL if out of range). */
+VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
+
+/* ---- render options -------------------------------------------------------------------- */
+
+typedef enum vbl_render_method {
+    VBL_RENDER_PT = 0,  /* volumetric path tracer (reference) */
+    VBL_RENDER_VPL = 1, /* virtual point lights */
+    VBL_RENDER_VRL = 2  /* virtual ray lights */
+} vbl_render_method;
+
+/* "pt", "vpl", "vrl"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
+VBL_API const char* vbl_render_method_name(vbl_render_method method);
+VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out);
+
+typedef enum vbl_mis_heuristic {
+    VBL_MIS_POWER = 0,   /* power heuristic, beta = 2 (default) */
+    VBL_MIS_BALANCE = 1
+} vbl_mis_heuristic;
+
+/* Reported after every pass; return non-zero from the callback to stop after that pass. */
+typedef struct vbl_render_progress {
+    int pass;               /* passes completed so far (1 after the first) */
+    int passes;             /* passes requested */
+    double elapsed_seconds; /* since vbl_render started */
+    double pass_seconds;    /* the pass just finished */
+    uint64_t samples_per_pixel; /* camera samples per pixel so far */
+} vbl_render_progress;
+
+typedef int (*vbl_render_pass_callback)(const vbl_render_progress* progress, void* user_data);
+
+typedef struct vbl_render_options {
+    size_t size;                       /* sizeof(vbl_render_options) */
+    vbl_render_method method;
+    int passes;                        /* >= 1: independent progressive passes */
+    int spp;                           /* >= 1: camera samples per pixel per pass */
+    int light_paths;                   /* >= 0: light paths per pass (vpl, vrl) */
+    uint64_t seed;
+    double time_limit;                 /* seconds; stop after the pass that exceeds it; <= 0 none */
+    int threads;                       /* 0: OpenMP default */
+    int max_bounces;                   /* max scattering events per path; -1 unlimited */
+    vbl_transmittance_estimator transmittance; /* shadow rays and camera-ray transmittance */
+    vbl_mis_heuristic mis;
+    vbl_render_pass_callback callback; /* may be NULL */
+    void* callback_user_data;
+} vbl_render_options;
+
+#define VBL_RENDER_OPTIONS_DEFAULT                                                              \
+    {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
+     VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL}
+
+/* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
+ * fields it leaves out); callback, threads and size are kept as they are. */
+VBL_API vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_options* options);
+
+/* ---- film ------------------------------------------------------------------------------ */
+
+/* The result of a render: float layers, row 0 at the top, channels interleaved. Reference
+ * counted, immutable. Layer names: "" (beauty R,G,B,A), "emission", "volume_direct",
+ * "volume_from_volume" (R,G,B), "Z" (1 channel), "samples" (1 channel), "variance" (R,G,B);
+ * only the layers the scene can produce are present. */
+typedef struct vbl_film vbl_film;
+
+VBL_API void vbl_film_retain(vbl_film* film);
+VBL_API void vbl_film_release(vbl_film* film);
+VBL_API int vbl_film_width(const vbl_film* film);
+VBL_API int vbl_film_height(const vbl_film* film);
+VBL_API int vbl_film_layer_count(const vbl_film* film);
+VBL_API const char* vbl_film_layer_name(const vbl_film* film, int index);
+/* Channel names of a layer: "R","G","B"[,"A"] or "Z" / "Y". */
+VBL_API int vbl_film_layer_channel_count(const vbl_film* film, const char* name);
+VBL_API const char* vbl_film_layer_channel_name(const vbl_film* film, const char* name, int channel);
+/* Pixels of a layer (NULL if the film has no such layer); *channels receives the count. */
+VBL_API const float* vbl_film_layer(const vbl_film* film, const char* name, int* channels);
+/* Convenience: the layer if it has 3 channels (R,G,B), else NULL. */
+VBL_API const float* vbl_film_layer_rgb(const vbl_film* film, const char* name);
+
+typedef struct vbl_film_stats {
+    size_t size;                  /* sizeof(vbl_film_stats) */
+    vbl_render_method method;
+    int passes;                   /* passes completed */
+    int spp;                      /* camera samples per pixel per pass */
+    int light_paths;
+    uint64_t seed;
+    int threads;                  /* threads used */
+    double render_seconds;
+    int cancelled;                /* 1: stopped by the callback */
+    int time_limited;             /* 1: stopped by time_limit */
+} vbl_film_stats;
+
+VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out);
+
+/* ---- rendering ------------------------------------------------------------------------- */
+
+/* Renders `scene` progressively. Same scene, options.seed and completed passes give a
+ * bit-identical film at any thread count. If the callback stops the render after at least one
+ * pass, *out_film receives the partial film and VBL_ERROR_INTERRUPTED is returned. Methods
+ * not built yet return VBL_ERROR_UNSUPPORTED. */
+VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options,
+                              vbl_film** out_film);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VBL_RENDER_H */

@@ -1,0 +1,212 @@
+/* Progressive render driver: passes with their own seed streams, OpenMP over 16x16 tiles
+ * (dynamic schedule; every pixel's stream is vbl_rng_make(seed, pass, pixel) so the image never
+ * depends on the thread count), running-mean film, alpha/Z AOVs, time limit and cancel. */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "render/film.h"
+#include "render/render_internal.h"
+#include "transport/estimator.h"
+
+#define VBL_TILE 16
+
+static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_options* o)
+{
+    if (!scene || !o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
+    if (o->size < sizeof(vbl_render_options))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: options.size is too small");
+    if ((unsigned)o->method > (unsigned)VBL_RENDER_VRL)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown method %d", (int)o->method);
+    if (o->passes < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: passes = %d must be >= 1", o->passes);
+    if (o->spp < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: spp = %d must be >= 1", o->spp);
+    if (o->light_paths < 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: light_paths = %d must be >= 0", o->light_paths);
+    if (o->threads < 0) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: threads = %d must be >= 0", o->threads);
+    if (o->max_bounces < -1)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: max_bounces = %d must be >= -1", o->max_bounces);
+    if (!(o->time_limit >= 0.0) && !(o->time_limit <= 0.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: time_limit is NaN");
+    if ((unsigned)o->transmittance > (unsigned)VBL_TRANSMITTANCE_CACHED_RATIO)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown transmittance estimator %d",
+                         (int)o->transmittance);
+    if (o->mis != VBL_MIS_POWER && o->mis != VBL_MIS_BALANCE)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown MIS heuristic %d", (int)o->mis);
+    return VBL_SUCCESS;
+}
+
+/* Single estimates of T need an uncached estimator; the cached kinds map to their counterparts
+ * (both unbiased) and stay in options.transmittance for methods that build caches. */
+static vbl_transmittance_estimator vbl_uncached(vbl_transmittance_estimator e)
+{
+    if (e == VBL_TRANSMITTANCE_CACHED_DELTA) return VBL_TRANSMITTANCE_DELTA_TRACKING;
+    if (e == VBL_TRANSMITTANCE_CACHED_RATIO) return VBL_TRANSMITTANCE_RATIO_TRACKING;
+    return e;
+}
+
+static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator* est, const void* store,
+                             vbl_thread_state* ts, int px, int py, vbl_pixel_accum* acc)
+{
+    const vbl_camera* cam = &ctx->scene->camera;
+    uint64_t pixel_index = (uint64_t)py * (uint64_t)cam->width + (uint64_t)px;
+    vbl_rng rng = vbl_rng_make(ctx->options.seed, ctx->pass, pixel_index);
+    const int spp = ctx->options.spp;
+    double pass_beauty[3] = {0.0, 0.0, 0.0};
+    double components[VBL_MAX_MEDIA];
+    for (int s = 0; s < spp; ++s) {
+        vbl_camera_sample cs;
+        cs.px = px;
+        cs.py = py;
+        cs.pixel_index = pixel_index;
+        cs.sx = px + vbl_rng_uniform(&rng);
+        cs.sy = py + vbl_rng_uniform(&rng);
+        vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
+
+        /* AOVs: alpha = 1 - T(camera ray), Z = delta-tracked first collision */
+        if (ctx->extinction->count > 0) {
+            acc->alpha += 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
+            double t = 0.0, sigma_t = 0.0;
+            if (vbl_ctx_free_flight(ctx, ts, cs.origin, cs.direction, INFINITY, &rng, &t, &sigma_t, components)) {
+                acc->depth += t;
+                acc->depth_hits += 1.0;
+            }
+        }
+
+        vbl_sample_value value;
+        memset(&value, 0, sizeof value);
+        est->camera_sample(ctx, store, ts, &cs, &rng, &value);
+        double beauty[3] = {0.0, 0.0, 0.0};
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+            acc->L[c][0] += value.L[c].x;
+            acc->L[c][1] += value.L[c].y;
+            acc->L[c][2] += value.L[c].z;
+            beauty[0] += value.L[c].x;
+            beauty[1] += value.L[c].y;
+            beauty[2] += value.L[c].z;
+        }
+        acc->samples += 1.0;
+        if (est->correlated_samples) {
+            for (int k = 0; k < 3; ++k) pass_beauty[k] += beauty[k];
+        } else {
+            for (int k = 0; k < 3; ++k) {
+                acc->var_sum[k] += beauty[k];
+                acc->var_sq[k] += beauty[k] * beauty[k];
+            }
+            acc->var_n += 1.0;
+        }
+    }
+    if (est->correlated_samples) {
+        for (int k = 0; k < 3; ++k) {
+            double m = pass_beauty[k] / spp;
+            acc->var_sum[k] += m;
+            acc->var_sq[k] += m * m;
+        }
+        acc->var_n += 1.0;
+    }
+}
+
+vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options, vbl_film** out_film)
+{
+    if (out_film) *out_film = NULL;
+    vbl_result r = vbl_render_validate(scene, options);
+    if (r) return r;
+    const vbl_estimator* est = vbl_estimator_for(options->method);
+    if (!est)
+        return vbl_error(VBL_ERROR_UNSUPPORTED, "%s: render method '%s' is not implemented yet", scene->path,
+                         vbl_render_method_name(options->method));
+    return vbl_render_with_estimator(scene, options, est, out_film);
+}
+
+vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_options* options,
+                                     const vbl_estimator* est, vbl_film** out_film)
+{
+    if (out_film) *out_film = NULL;
+    vbl_result r = vbl_render_validate(scene, options);
+    if (r) return r;
+    if (!out_film || !est) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
+
+    vbl_render_context ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.scene = scene;
+    ctx.extinction = &scene->extinction;
+    ctx.options = *options;
+    ctx.options.size = sizeof(vbl_render_options);
+    ctx.tracking.estimator = vbl_uncached(options->transmittance);
+    ctx.tracking.march_step = 0.0;
+    ctx.tracking.use_global_majorant = 0;
+    ctx.threads = options->threads > 0 ? options->threads : omp_get_max_threads();
+    if (ctx.threads < 1) ctx.threads = 1;
+
+    const int width = scene->camera.width, height = scene->camera.height;
+    size_t pixel_count = (size_t)width * (size_t)height;
+    vbl_pixel_accum* accum = calloc(pixel_count, sizeof *accum);
+    if (!accum) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %dx%d film", scene->path, width, height);
+
+    const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
+    const int tile_count = tiles_x * tiles_y;
+    double start = omp_get_wtime();
+    int passes_done = 0, cancelled = 0, time_limited = 0;
+    for (int pass = 0; pass < options->passes; ++pass) {
+        double pass_start = omp_get_wtime();
+        ctx.pass = (uint32_t)pass;
+        void* store = NULL;
+        if (est->pass_begin && (r = est->pass_begin(&ctx, &store))) {
+            free(accum);
+            return r;
+        }
+#pragma omp parallel num_threads(ctx.threads)
+        {
+            vbl_thread_state ts;
+            memset(&ts, 0, sizeof ts);
+            vbl_extinction_cursor_init(&ts.cursor, ctx.extinction);
+#pragma omp for schedule(dynamic, 1)
+            for (int tile = 0; tile < tile_count; ++tile) {
+                int x0 = (tile % tiles_x) * VBL_TILE, y0 = (tile / tiles_x) * VBL_TILE;
+                int x1 = x0 + VBL_TILE < width ? x0 + VBL_TILE : width;
+                int y1 = y0 + VBL_TILE < height ? y0 + VBL_TILE : height;
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x)
+                        vbl_render_pixel(&ctx, est, store, &ts, x, y, &accum[(size_t)y * width + x]);
+            }
+        }
+        if (est->pass_end) est->pass_end(&ctx, store);
+        passes_done = pass + 1;
+        double now = omp_get_wtime();
+        if (options->callback) {
+            vbl_render_progress progress = {passes_done, options->passes, now - start, now - pass_start,
+                                            (uint64_t)passes_done * (uint64_t)options->spp};
+            if (options->callback(&progress, options->callback_user_data)) {
+                cancelled = pass + 1 < options->passes;
+                break;
+            }
+        }
+        if (options->time_limit > 0.0 && now - start >= options->time_limit && pass + 1 < options->passes) {
+            time_limited = 1;
+            break;
+        }
+    }
+
+    vbl_film_layout layout;
+    vbl_film_layout_for(scene, options, &layout);
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.size = sizeof stats;
+    stats.method = options->method;
+    stats.passes = passes_done;
+    stats.spp = options->spp;
+    stats.light_paths = options->light_paths;
+    stats.seed = options->seed;
+    stats.threads = ctx.threads;
+    stats.render_seconds = omp_get_wtime() - start;
+    stats.cancelled = cancelled;
+    stats.time_limited = time_limited;
+    r = vbl_film_build(accum, width, height, &layout, &stats, out_film);
+    free(accum);
+    if (r) return r;
+    if (cancelled)
+        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: render stopped by the caller after %d of %d passes", scene->path,
+                         passes_done, options->passes);
+    return VBL_SUCCESS;
+}

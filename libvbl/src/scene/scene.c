@@ -1,0 +1,78 @@
+/* Scene lifecycle, getters and the pinhole camera. */
+#include "scene/scene.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+
+void vbl_scene_retain(vbl_scene* scene)
+{
+    if (scene) __atomic_add_fetch(&scene->refcount, 1, __ATOMIC_RELAXED);
+}
+
+void vbl_scene_release(vbl_scene* scene)
+{
+    if (!scene || __atomic_sub_fetch(&scene->refcount, 1, __ATOMIC_ACQ_REL) != 0) return;
+    for (int i = 0; i < scene->media_count; ++i)
+        if (scene->media[i].volume) vbl_volume_release(scene->media[i].volume);
+    free(scene);
+}
+
+const char* vbl_scene_path(const vbl_scene* scene) { return scene ? scene->path : NULL; }
+
+void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height)
+{
+    if (width) *width = scene ? scene->camera.width : 0;
+    if (height) *height = scene ? scene->camera.height : 0;
+}
+
+int vbl_scene_light_count(const vbl_scene* scene) { return scene ? scene->light_count : 0; }
+int vbl_scene_medium_count(const vbl_scene* scene) { return scene ? scene->media_count : 0; }
+
+const char* vbl_scene_medium_path(const vbl_scene* scene, int index)
+{
+    if (!scene || index < 0 || index >= scene->media_count) return NULL;
+    return scene->media[index].vdb_path;
+}
+
+vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_options* options)
+{
+    if (!scene || !options) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_render_options: NULL argument");
+    if (options->size < sizeof(vbl_render_options))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_render_options: options.size is too small");
+    vbl_render_options keep = *options;
+    *options = scene->render;
+    options->size = keep.size;
+    options->threads = keep.threads;
+    options->callback = keep.callback;
+    options->callback_user_data = keep.callback_user_data;
+    return VBL_SUCCESS;
+}
+
+static const char* const vbl_method_names[] = {"pt", "vpl", "vrl"};
+
+const char* vbl_render_method_name(vbl_render_method method)
+{
+    return (unsigned)method < 3u ? vbl_method_names[method] : "unknown";
+}
+
+vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out)
+{
+    for (int i = 0; name && i < 3; ++i)
+        if (!strcmp(name, vbl_method_names[i])) {
+            *out = (vbl_render_method)i;
+            return VBL_SUCCESS;
+        }
+    return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl)", name ? name : "");
+}
+
+void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction)
+{
+    double aspect = (double)camera->width / (double)camera->height;
+    double a = (2.0 * sx / camera->width - 1.0) * camera->tan_half_fov * aspect;
+    double b = (1.0 - 2.0 * sy / camera->height) * camera->tan_half_fov;
+    vbl_vec3 d = vbl_v3_add(camera->forward, vbl_v3_add(vbl_v3_scale(camera->right, a), vbl_v3_scale(camera->up, b)));
+    *origin = camera->position;
+    *direction = vbl_v3_normalize(d);
+}

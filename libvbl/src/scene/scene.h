@@ -1,0 +1,77 @@
+/* The scene model built from a JSON scene file: pinhole camera, lights, media (VDB volumes with
+ * density scale, albedo, HG phase, placement) and the render block. Immutable after loading. */
+#ifndef VBL_SCENE_SCENE_H
+#define VBL_SCENE_SCENE_H
+
+#include "core/math.h"
+#include "vbl/vbl_render.h"
+#include "volume/extinction.h"
+
+#define VBL_MAX_LIGHTS 64
+
+/* Pinhole camera (Cycles reference kit convention, see docs/readme/render.md). */
+typedef struct vbl_camera {
+    vbl_vec3 position;
+    vbl_vec3 forward, right, up; /* f, r = normalize(cross(f, up)), u = cross(r, f) */
+    double tan_half_fov;         /* tan(vfov / 2) */
+    int width, height;
+} vbl_camera;
+
+typedef enum vbl_light_type {
+    VBL_LIGHT_POINT = 0,
+    VBL_LIGHT_SPOT = 1,
+    VBL_LIGHT_DISTANT = 2,
+    VBL_LIGHT_QUAD = 3,
+    VBL_LIGHT_ENVIRONMENT = 4
+} vbl_light_type;
+
+typedef struct vbl_light {
+    vbl_light_type type;
+    vbl_vec3 color;      /* point/spot: intensity W/sr; distant: irradiance W/m^2;
+                            quad/environment: radiance W/(m^2 sr) */
+    vbl_vec3 position;   /* point, spot */
+    vbl_vec3 direction;  /* spot: unit axis (direction of emission); distant: unit travel dir */
+    double cos_inner, cos_outer; /* spot: cosines of the inner/outer half-angles */
+    vbl_vec3 corner, edge1, edge2; /* quad */
+    vbl_vec3 normal;     /* quad: unit cross(edge1, edge2), the emitting side */
+    double area;         /* quad */
+} vbl_light;
+
+typedef struct vbl_medium {
+    vbl_volume* volume;
+    char vdb_path[1024]; /* resolved */
+    double density_scale;
+    vbl_vec3 albedo;
+    double g;            /* Henyey-Greenstein asymmetry in (-1, 1) */
+    vbl_affine volume_to_scene;
+    vbl_affine scene_to_volume;
+} vbl_medium;
+
+struct vbl_scene {
+    int refcount;
+    char path[1024];
+    vbl_camera camera;
+    vbl_light lights[VBL_MAX_LIGHTS];
+    int light_count;
+    int has_delta_lights;   /* point/spot/distant */
+    int has_visible_lights; /* quad/environment (seen directly -> emission layer) */
+    vbl_medium media[VBL_MAX_MEDIA];
+    int media_count;
+    vbl_extinction extinction; /* components in media order */
+    vbl_render_options render; /* the scene's render block (defaults filled in) */
+};
+
+/* Camera ray through continuous raster position (sx, sy), sy down from the top. */
+void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction);
+
+/* Programmatic scene building (tests, bindings): a scene with only a camera, then media and
+ * lights appended. add_medium retains `volume`; volume_to_scene NULL = identity. */
+vbl_result vbl_scene_create_empty(const char* name, const vbl_camera* camera, vbl_scene** out_scene);
+vbl_result vbl_scene_add_medium(vbl_scene* scene, vbl_volume* volume, double density_scale, vbl_vec3 albedo,
+                                double g, const vbl_affine* volume_to_scene);
+vbl_result vbl_scene_add_light(vbl_scene* scene, const vbl_light* light);
+/* Camera from the JSON fields (position, look_at, up, vertical fov in degrees, resolution). */
+vbl_result vbl_camera_make(vbl_vec3 position, vbl_vec3 look_at, vbl_vec3 up, double fov_deg, int width, int height,
+                           vbl_camera* out);
+
+#endif

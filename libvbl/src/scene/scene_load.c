@@ -1,0 +1,405 @@
+/* Scene file loader: JSON (cJSON) -> vbl_scene. Schema in docs/readme/render.md. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "core/error.h"
+#include "scene/scene.h"
+#include "scene/scene_build.h"
+#include "scene/scene_json.h"
+
+#define VBL_COLOR_MAX 1e30
+
+static vbl_result vbl_read_text_file(const char* path, char** out_text)
+{
+    FILE* f = fopen(path, "rb");
+    if (!f) return vbl_error(VBL_ERROR_FILE_NOT_FOUND, "%s: cannot open scene file (%s)", path, strerror(errno));
+    size_t cap = 1 << 16, len = 0;
+    char* text = malloc(cap);
+    if (!text) {
+        fclose(f);
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the scene", path);
+    }
+    for (;;) {
+        if (len + 1 >= cap) {
+            char* grown = realloc(text, cap * 2);
+            if (!grown) {
+                free(text);
+                fclose(f);
+                return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the scene", path);
+            }
+            text = grown;
+            cap *= 2;
+        }
+        size_t n = fread(text + len, 1, cap - len - 1, f);
+        len += n;
+        if (n == 0) break;
+    }
+    int failed = ferror(f);
+    fclose(f);
+    if (failed) {
+        free(text);
+        return vbl_error(VBL_ERROR_FILE_IO, "%s: read error", path);
+    }
+    text[len] = '\0';
+    *out_text = text;
+    return VBL_SUCCESS;
+}
+
+/* Directory part of `path` including the trailing '/', or "" for a bare file name. */
+static void vbl_path_dir(const char* path, char* out, size_t size)
+{
+    const char* slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path + 1) : 0;
+    if (n >= size) n = size - 1;
+    memcpy(out, path, n);
+    out[n] = '\0';
+}
+
+static vbl_result vbl_parse_camera(const vbl_json_ctx* ctx, const cJSON* root, vbl_camera* cam)
+{
+    static const char* const keys[] = {"position", "look_at", "up", "fov_deg", "resolution", NULL};
+    const cJSON* obj = NULL;
+    vbl_result r;
+    if ((r = vbl_json_object(ctx, root, "", "camera", 1, &obj))) return r;
+    if ((r = vbl_json_check_keys(ctx, obj, "camera", keys))) return r;
+    vbl_vec3 position, look_at, up = vbl_v3(0.0, 0.0, 1.0);
+    double fov = 40.0;
+    if ((r = vbl_json_vec3(ctx, obj, "camera", "position", 1, &position))) return r;
+    if ((r = vbl_json_vec3(ctx, obj, "camera", "look_at", 1, &look_at))) return r;
+    if ((r = vbl_json_vec3(ctx, obj, "camera", "up", 0, &up))) return r;
+    if ((r = vbl_json_number(ctx, obj, "camera", "fov_deg", 0, &fov))) return r;
+    if (!(fov > 0.0 && fov < 180.0)) return vbl_json_fail(ctx, "camera.fov_deg = %g is outside (0, 180)", fov);
+    const cJSON* res = cJSON_GetObjectItemCaseSensitive(obj, "resolution");
+    if (!res) return vbl_json_fail(ctx, "camera.resolution is missing");
+    if (!cJSON_IsArray(res) || cJSON_GetArraySize(res) != 2)
+        return vbl_json_fail(ctx, "camera.resolution must be an array [width, height]");
+    int wh[2];
+    for (int i = 0; i < 2; ++i) {
+        const cJSON* c = cJSON_GetArrayItem(res, i);
+        if (!cJSON_IsNumber(c) || c->valuedouble != floor(c->valuedouble))
+            return vbl_json_fail(ctx, "camera.resolution[%d] must be an integer", i);
+        if (c->valuedouble < 1 || c->valuedouble > 32768)
+            return vbl_json_fail(ctx, "camera.resolution[%d] = %g is outside [1, 32768]", i, c->valuedouble);
+        wh[i] = (int)c->valuedouble;
+    }
+    if (!(vbl_v3_length(vbl_v3_sub(look_at, position)) > 0.0))
+        return vbl_json_fail(ctx, "camera.look_at equals camera.position");
+    if (vbl_camera_make(position, look_at, up, fov, wh[0], wh[1], cam))
+        return vbl_json_fail(ctx, "camera.up is zero or parallel to the view direction");
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, vbl_light* light)
+{
+    static const char* const point_keys[] = {"type", "position", "intensity", NULL};
+    static const char* const spot_keys[] = {"type", "position", "direction", "intensity",
+                                            "inner_angle_deg", "outer_angle_deg", NULL};
+    static const char* const distant_keys[] = {"type", "direction", "irradiance", NULL};
+    static const char* const quad_keys[] = {"type", "corner", "edge1", "edge2", "radiance", NULL};
+    static const char* const env_keys[] = {"type", "radiance", NULL};
+    vbl_result r;
+    if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
+    const char* type = NULL;
+    if ((r = vbl_json_string(ctx, obj, field, "type", 1, &type))) return r;
+    memset(light, 0, sizeof *light);
+    if (!strcmp(type, "point") || !strcmp(type, "spot")) {
+        int spot = type[0] == 's';
+        light->type = spot ? VBL_LIGHT_SPOT : VBL_LIGHT_POINT;
+        if ((r = vbl_json_check_keys(ctx, obj, field, spot ? spot_keys : point_keys))) return r;
+        if ((r = vbl_json_vec3(ctx, obj, field, "position", 1, &light->position))) return r;
+        if ((r = vbl_json_rgb(ctx, obj, field, "intensity", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        if (spot) {
+            vbl_vec3 dir;
+            double inner = 0.0, outer = 0.0;
+            if ((r = vbl_json_vec3(ctx, obj, field, "direction", 1, &dir))) return r;
+            if (!(vbl_v3_length(dir) > 0.0)) return vbl_json_fail(ctx, "%s.direction is zero", field);
+            if ((r = vbl_json_number(ctx, obj, field, "outer_angle_deg", 1, &outer))) return r;
+            inner = outer;
+            if ((r = vbl_json_number(ctx, obj, field, "inner_angle_deg", 0, &inner))) return r;
+            if (!(outer > 0.0 && outer <= 180.0))
+                return vbl_json_fail(ctx, "%s.outer_angle_deg = %g is outside (0, 180]", field, outer);
+            if (!(inner >= 0.0 && inner <= outer))
+                return vbl_json_fail(ctx, "%s.inner_angle_deg = %g is outside [0, outer_angle_deg = %g]", field,
+                                     inner, outer);
+            light->direction = vbl_v3_normalize(dir);
+            light->cos_inner = cos(inner * VBL_PI / 180.0);
+            light->cos_outer = cos(outer * VBL_PI / 180.0);
+        }
+    } else if (!strcmp(type, "distant")) {
+        light->type = VBL_LIGHT_DISTANT;
+        vbl_vec3 dir;
+        if ((r = vbl_json_check_keys(ctx, obj, field, distant_keys))) return r;
+        if ((r = vbl_json_vec3(ctx, obj, field, "direction", 1, &dir))) return r;
+        if (!(vbl_v3_length(dir) > 0.0)) return vbl_json_fail(ctx, "%s.direction is zero", field);
+        light->direction = vbl_v3_normalize(dir);
+        if ((r = vbl_json_rgb(ctx, obj, field, "irradiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+    } else if (!strcmp(type, "quad")) {
+        light->type = VBL_LIGHT_QUAD;
+        if ((r = vbl_json_check_keys(ctx, obj, field, quad_keys))) return r;
+        if ((r = vbl_json_vec3(ctx, obj, field, "corner", 1, &light->corner))) return r;
+        if ((r = vbl_json_vec3(ctx, obj, field, "edge1", 1, &light->edge1))) return r;
+        if ((r = vbl_json_vec3(ctx, obj, field, "edge2", 1, &light->edge2))) return r;
+        if ((r = vbl_json_rgb(ctx, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        vbl_vec3 n = vbl_v3_cross(light->edge1, light->edge2);
+        light->area = vbl_v3_length(n);
+        if (!(light->area > 0.0)) return vbl_json_fail(ctx, "%s: edge1 and edge2 span no area", field);
+        light->normal = vbl_v3_scale(n, 1.0 / light->area);
+    } else if (!strcmp(type, "environment")) {
+        light->type = VBL_LIGHT_ENVIRONMENT;
+        if ((r = vbl_json_check_keys(ctx, obj, field, env_keys))) return r;
+        if ((r = vbl_json_rgb(ctx, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+    } else {
+        return vbl_json_fail(ctx, "%s.type = \"%s\" is not one of point, spot, distant, quad, environment", field,
+                             type);
+    }
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_parse_transform(const vbl_json_ctx* ctx, const cJSON* item, const char* field,
+                                      vbl_affine* to_scene, vbl_affine* to_volume)
+{
+    double m[4][4];
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 4)
+        return vbl_json_fail(ctx, "%s must be a 4x4 array of rows", field);
+    for (int i = 0; i < 4; ++i) {
+        const cJSON* row = cJSON_GetArrayItem(item, i);
+        if (!cJSON_IsArray(row) || cJSON_GetArraySize(row) != 4)
+            return vbl_json_fail(ctx, "%s[%d] must be an array of 4 numbers", field, i);
+        for (int j = 0; j < 4; ++j) {
+            const cJSON* c = cJSON_GetArrayItem(row, j);
+            if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble))
+                return vbl_json_fail(ctx, "%s[%d][%d] must be a finite number", field, i, j);
+            m[i][j] = c->valuedouble;
+        }
+    }
+    if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
+        return vbl_json_fail(ctx, "%s: the last row must be [0, 0, 0, 1] (affine maps only)", field);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) to_scene->m[i][j] = m[i][j];
+    if (!vbl_affine_invert(to_scene, to_volume)) return vbl_json_fail(ctx, "%s is singular", field);
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
+                                   const char* vdb_override, vbl_medium* medium)
+{
+    static const char* const keys[] = {"vdb", "grid", "density_scale", "albedo", "phase", "transform", NULL};
+    static const char* const phase_keys[] = {"type", "g", NULL};
+    vbl_result r;
+    if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
+    if ((r = vbl_json_check_keys(ctx, obj, field, keys))) return r;
+    const char* vdb = NULL;
+    const char* grid = "density";
+    if ((r = vbl_json_string(ctx, obj, field, "vdb", vdb_override == NULL, &vdb))) return r;
+    if ((r = vbl_json_string(ctx, obj, field, "grid", 0, &grid))) return r;
+    medium->density_scale = 1.0;
+    if ((r = vbl_json_number(ctx, obj, field, "density_scale", 0, &medium->density_scale))) return r;
+    if (medium->density_scale < 0.0)
+        return vbl_json_fail(ctx, "%s.density_scale = %g is negative", field, medium->density_scale);
+    medium->albedo = vbl_v3(1.0, 1.0, 1.0);
+    if ((r = vbl_json_rgb(ctx, obj, field, "albedo", 0, 0.0, 1.0, &medium->albedo))) return r;
+    medium->g = 0.0;
+    const cJSON* phase = NULL;
+    char phase_field[512];
+    vbl_json_field(phase_field, sizeof phase_field, field, "phase");
+    if ((r = vbl_json_object(ctx, obj, field, "phase", 0, &phase))) return r;
+    if (phase) {
+        const char* type = "hg";
+        if ((r = vbl_json_check_keys(ctx, phase, phase_field, phase_keys))) return r;
+        if ((r = vbl_json_string(ctx, phase, phase_field, "type", 0, &type))) return r;
+        if (strcmp(type, "hg") && strcmp(type, "henyey-greenstein"))
+            return vbl_json_fail(ctx, "%s.type = \"%s\" is not \"hg\"", phase_field, type);
+        if ((r = vbl_json_number(ctx, phase, phase_field, "g", 0, &medium->g))) return r;
+        if (!(medium->g > -1.0 && medium->g < 1.0))
+            return vbl_json_fail(ctx, "%s.g = %g is outside (-1, 1)", phase_field, medium->g);
+    }
+    vbl_affine_set_identity(&medium->volume_to_scene);
+    vbl_affine_set_identity(&medium->scene_to_volume);
+    const cJSON* transform = cJSON_GetObjectItemCaseSensitive(obj, "transform");
+    if (transform) {
+        char tf[512];
+        vbl_json_field(tf, sizeof tf, field, "transform");
+        if ((r = vbl_parse_transform(ctx, transform, tf, &medium->volume_to_scene, &medium->scene_to_volume)))
+            return r;
+    }
+    /* resolve and load the VDB */
+    if (vdb_override)
+        snprintf(medium->vdb_path, sizeof medium->vdb_path, "%s", vdb_override);
+    else if (vdb[0] == '/')
+        snprintf(medium->vdb_path, sizeof medium->vdb_path, "%s", vdb);
+    else
+        snprintf(medium->vdb_path, sizeof medium->vdb_path, "%s%s", dir, vdb);
+    FILE* probe = fopen(medium->vdb_path, "rb");
+    if (!probe)
+        return vbl_error(VBL_ERROR_FILE_NOT_FOUND, "%s: %s.vdb: cannot open '%s' (%s)", ctx->path, field,
+                         medium->vdb_path, strerror(errno));
+    fclose(probe);
+    vbl_volume_load_options load = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+    load.grid_name = grid;
+    r = vbl_volume_load(medium->vdb_path, &load, &medium->volume);
+    if (r) {
+        char inner[1024];
+        snprintf(inner, sizeof inner, "%s", vbl_last_error_message());
+        return vbl_error(r, "%s: %s.vdb = '%s': %s", ctx->path, field, medium->vdb_path, inner);
+    }
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
+{
+    static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
+                                       "max_bounces", "transmittance", "mis", NULL};
+    const cJSON* obj = NULL;
+    vbl_result r;
+    if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
+    if (!obj) return VBL_SUCCESS;
+    if ((r = vbl_json_check_keys(ctx, obj, "render", keys))) return r;
+    const char* s = NULL;
+    if ((r = vbl_json_string(ctx, obj, "render", "method", 0, &s))) return r;
+    if (s && vbl_render_method_parse(s, &o->method))
+        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl", s);
+    double v = o->passes;
+    if ((r = vbl_json_int(ctx, obj, "render", "passes", 0, 1, 1e9, &v))) return r;
+    o->passes = (int)v;
+    v = o->spp;
+    if ((r = vbl_json_int(ctx, obj, "render", "spp", 0, 1, 1e6, &v))) return r;
+    o->spp = (int)v;
+    v = o->light_paths;
+    if ((r = vbl_json_int(ctx, obj, "render", "light_paths", 0, 0, 2e9, &v))) return r;
+    o->light_paths = (int)v;
+    v = (double)o->seed;
+    if ((r = vbl_json_int(ctx, obj, "render", "seed", 0, 0, 9007199254740992.0, &v))) return r;
+    o->seed = (uint64_t)v;
+    if ((r = vbl_json_number(ctx, obj, "render", "time_limit", 0, &o->time_limit))) return r;
+    if (o->time_limit < 0.0) return vbl_json_fail(ctx, "render.time_limit = %g is negative", o->time_limit);
+    v = o->max_bounces;
+    if ((r = vbl_json_int(ctx, obj, "render", "max_bounces", 0, -1, 1e9, &v))) return r;
+    o->max_bounces = (int)v;
+    s = NULL;
+    if ((r = vbl_json_string(ctx, obj, "render", "transmittance", 0, &s))) return r;
+    if (s && vbl_transmittance_estimator_parse(s, &o->transmittance))
+        return vbl_json_fail(ctx, "render.transmittance = \"%s\" is not a transmittance estimator "
+                                  "(delta, ratio, residual, march, cached-delta, cached-ratio)", s);
+    s = NULL;
+    if ((r = vbl_json_string(ctx, obj, "render", "mis", 0, &s))) return r;
+    if (s) {
+        if (!strcmp(s, "power"))
+            o->mis = VBL_MIS_POWER;
+        else if (!strcmp(s, "balance"))
+            o->mis = VBL_MIS_BALANCE;
+        else
+            return vbl_json_fail(ctx, "render.mis = \"%s\" is not one of power, balance", s);
+    }
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
+{
+    static const char* const keys[] = {"camera", "lights", "media", "render", NULL};
+    vbl_json_ctx ctx = {scene->path};
+    vbl_result r;
+    if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
+    if ((r = vbl_json_check_keys(&ctx, root, "", keys))) return r;
+    if ((r = vbl_parse_camera(&ctx, root, &scene->camera))) return r;
+
+    const cJSON* lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    if (lights) {
+        if (!cJSON_IsArray(lights)) return vbl_json_fail(&ctx, "lights must be an array");
+        if (cJSON_GetArraySize(lights) > VBL_MAX_LIGHTS)
+            return vbl_json_fail(&ctx, "lights has %d entries (at most %d)", cJSON_GetArraySize(lights), VBL_MAX_LIGHTS);
+        int i = 0;
+        for (const cJSON* l = lights->child; l; l = l->next, ++i) {
+            char field[64];
+            snprintf(field, sizeof field, "lights[%d]", i);
+            if ((r = vbl_parse_light(&ctx, l, field, &scene->lights[i]))) return r;
+            if (vbl_v3_max_component(scene->lights[i].color) <= 0.0) continue; /* black lights do nothing */
+            if (scene->lights[i].type == VBL_LIGHT_QUAD || scene->lights[i].type == VBL_LIGHT_ENVIRONMENT)
+                scene->has_visible_lights = 1;
+            else
+                scene->has_delta_lights = 1;
+        }
+        scene->light_count = i;
+    }
+
+    char dir[1024];
+    vbl_path_dir(scene->path, dir, sizeof dir);
+    const cJSON* media = cJSON_GetObjectItemCaseSensitive(root, "media");
+    if (media) {
+        if (!cJSON_IsArray(media)) return vbl_json_fail(&ctx, "media must be an array");
+        if (cJSON_GetArraySize(media) > VBL_MAX_MEDIA)
+            return vbl_json_fail(&ctx, "media has %d entries (at most %d)", cJSON_GetArraySize(media), VBL_MAX_MEDIA);
+        int i = 0;
+        for (const cJSON* m = media->child; m; m = m->next, ++i) {
+            char field[64];
+            snprintf(field, sizeof field, "media[%d]", i);
+            const char* override = NULL;
+            if (options && options->vdb_overrides && i < options->vdb_override_count)
+                override = options->vdb_overrides[i];
+            scene->media_count = i + 1; /* so a failure releases what was loaded */
+            if ((r = vbl_parse_medium(&ctx, m, field, dir, override, &scene->media[i]))) return r;
+        }
+        scene->media_count = i;
+    }
+    if (options && options->vdb_override_count > scene->media_count)
+        return vbl_json_fail(&ctx, "%d VDB overrides given but the scene has %d media", options->vdb_override_count,
+                             scene->media_count);
+
+    vbl_render_options defaults = VBL_RENDER_OPTIONS_DEFAULT;
+    scene->render = defaults;
+    if ((r = vbl_parse_render(&ctx, root, &scene->render))) return r;
+
+    /* the extinction field (components in media order) */
+    vbl_extinction_init(&scene->extinction);
+    for (int i = 0; i < scene->media_count; ++i) {
+        r = vbl_extinction_add(&scene->extinction, scene->media[i].volume, scene->media[i].density_scale,
+                               &scene->media[i].scene_to_volume);
+        if (r) return vbl_json_fail(&ctx, "media[%d]: %s", i, vbl_last_error_message());
+    }
+    return VBL_SUCCESS;
+}
+
+vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options, vbl_scene** out_scene)
+{
+    if (!path || !out_scene) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: NULL argument");
+    if (options && options->size < sizeof(vbl_scene_load_options))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: options.size is too small");
+    *out_scene = NULL;
+    if (strlen(path) >= 1024) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: path too long");
+    char* text = NULL;
+    vbl_result r = vbl_read_text_file(path, &text);
+    if (r) return r;
+    const char* end = NULL;
+    cJSON* root = cJSON_ParseWithOpts(text, &end, 0);
+    if (!root) {
+        int line = 1;
+        for (const char* p = text; end && p < end && *p; ++p) line += *p == '\n';
+        free(text);
+        return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: invalid JSON near line %d", path, line);
+    }
+    free(text);
+    vbl_scene* scene = calloc(1, sizeof *scene);
+    if (!scene) {
+        cJSON_Delete(root);
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    scene->refcount = 1;
+    snprintf(scene->path, sizeof scene->path, "%s", path);
+    r = vbl_scene_parse(scene, root, options);
+    cJSON_Delete(root);
+    if (r) {
+        vbl_scene_release(scene);
+        return r;
+    }
+    *out_scene = scene;
+    return VBL_SUCCESS;
+}
+
+vbl_result vbl_scene_load(const char* path, vbl_scene** out_scene)
+{
+    return vbl_scene_load_ex(path, NULL, out_scene);
+}

@@ -1,0 +1,235 @@
+/* Transmittance estimators over an extinction field, all driven by one free-flight loop over the
+ * merged majorant segments (pbrt-v4 `SampleT_maj` style): tentative collisions are drawn with rate
+ * mu = majorant (or majorant - minorant for residual tracking) segment by segment, and each
+ * estimator reacts to them:
+ *  - delta tracking (Woodcock): stop with T = 0 at a real collision, probability sigma_t / mu;
+ *  - ratio tracking (Novak et al. 2014, eq. 6): T = prod (1 - sigma_t / mu);
+ *  - residual ratio tracking (Novak et al. 2014, eq. 11), control = segment minorant sigma_c:
+ *    T = exp(-sigma_c len) * prod (1 - (sigma_t - sigma_c) / (mu - sigma_c));
+ *  - ray marching (biased): T = exp(-sum sigma_t(t_k) dt), jittered regular steps.
+ * Segments whose rate is 0 cost no lookup. Ratio estimators apply Russian roulette once the weight
+ * falls below VBL_RR_THRESHOLD (survive with probability w / threshold, weight := threshold):
+ * unbiased, and it bounds the work in dense media. */
+#include "volume/transmittance.h"
+
+#include <float.h>
+#include <math.h>
+
+#include "volume/transmittance_cache.h"
+
+#define VBL_RR_THRESHOLD 0.1
+
+enum { VBL_TRACK_CONTINUE = 0, VBL_TRACK_STOP = 1 };
+
+typedef struct vbl_tracker {
+    vbl_transmittance_estimator kind; /* DELTA, RATIO or RESIDUAL */
+    double weight;
+    double t_stop, sigma_stop;
+    vbl_rng* rng;
+} vbl_tracker;
+
+/* Reacts to a tentative collision at t with sigma_t, sampled with rate mu over control sigma_c. */
+static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double sigma_c)
+{
+    double p = (sigma_t - sigma_c) / mu; /* in [0, 1] for true bounds (rounding aside) */
+    if (tr->kind == VBL_TRANSMITTANCE_DELTA_TRACKING) {
+        if (vbl_rng_uniform(tr->rng) < p) {
+            tr->weight = 0.0;
+            return VBL_TRACK_STOP;
+        }
+        return VBL_TRACK_CONTINUE;
+    }
+    double f = 1.0 - p;
+    if (f < 0.0) f = 0.0; /* sigma_t above a true bound only by float rounding of the lerp */
+    tr->weight *= f;
+    if (tr->weight <= 0.0) {
+        tr->weight = 0.0;
+        return VBL_TRACK_STOP;
+    }
+    if (tr->weight < VBL_RR_THRESHOLD) {
+        double survive = tr->weight / VBL_RR_THRESHOLD;
+        if (vbl_rng_uniform(tr->rng) >= survive) {
+            tr->weight = 0.0;
+            return VBL_TRACK_STOP;
+        }
+        tr->weight = VBL_RR_THRESHOLD;
+    }
+    return VBL_TRACK_CONTINUE;
+}
+
+/* Advances t by an exponential step of rate mu; never stalls when the step is below an ulp. */
+static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
+{
+    double next = t - log1p(-vbl_rng_uniform(rng)) / mu;
+    return next > t ? next : nextafter(t, INFINITY);
+}
+
+/* The shared free-flight loop. Returns VBL_TRACK_STOP if the tracker stopped, else CONTINUE. */
+static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin, vbl_vec3 direction,
+                     double t0, double t1, int use_global, vbl_tracker* tr, double* per_component)
+{
+    vbl_extinction_iter iter;
+    vbl_majorant_segment seg;
+    const int residual = tr->kind == VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
+    vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
+    while (vbl_extinction_iter_next(&iter, &seg)) {
+        double sigma_c = residual ? seg.minorant : 0.0;
+        double mu = seg.majorant - sigma_c;
+        if (residual && sigma_c > 0.0) {
+            tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
+            if (!(tr->weight > 0.0)) { /* underflow: T is 0 to double precision */
+                tr->weight = 0.0;
+                return VBL_TRACK_STOP;
+            }
+        }
+        if (!(mu > 0.0)) continue; /* empty (or exactly known) segment: no lookups */
+        double t = seg.t0;
+        for (;;) {
+            t = vbl_exp_step(t, mu, tr->rng);
+            if (t >= seg.t1) break;
+            double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
+            if (vbl_tracker_event(tr, sigma_t, mu, sigma_c) == VBL_TRACK_STOP) {
+                tr->t_stop = t;
+                tr->sigma_stop = sigma_t;
+                return VBL_TRACK_STOP;
+            }
+        }
+    }
+    return VBL_TRACK_CONTINUE;
+}
+
+/* Step (ray parameter) of about one voxel along the ray for the finest component. */
+static double vbl_adaptive_march_step(const vbl_extinction* ext, vbl_vec3 direction)
+{
+    double step = INFINITY;
+    for (int c = 0; c < ext->count; ++c) {
+        const vbl_medium_component* m = &ext->components[c];
+        vbl_vec3 d = vbl_affine_vector(&m->volume->world_to_index, vbl_affine_vector(&m->scene_to_volume, direction));
+        double len = vbl_v3_length(d); /* voxels per unit t */
+        if (len > 0.0 && 1.0 / len < step) step = 1.0 / len;
+    }
+    return step;
+}
+
+/* Ray marching: points t0 + (k + u) h, u ~ U[0,1) shared by the whole ray, evaluated only inside
+ * segments with a non-zero majorant; E[h sum sigma] = optical depth (only exp() adds bias). */
+static double vbl_ray_march(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                            vbl_vec3 direction, double t0, double t1, const vbl_tracking_settings* s, vbl_rng* rng)
+{
+    double h = s->march_step > 0.0 ? s->march_step : vbl_adaptive_march_step(ext, direction);
+    if (!(h > 0.0) || !isfinite(h)) return 1.0;
+    if (h < (t1 - t0) * 1e-7) h = (t1 - t0) * 1e-7; /* at most 1e7 steps per ray (documented) */
+    double u = vbl_rng_uniform(rng);
+    double tau = 0.0;
+    vbl_extinction_iter iter;
+    vbl_majorant_segment seg;
+    vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, s->use_global_majorant);
+    while (vbl_extinction_iter_next(&iter, &seg)) {
+        if (!(seg.majorant > 0.0)) continue;
+        double k = ceil((seg.t0 - t0) / h - u);
+        if (k < 0.0) k = 0.0;
+        for (;; k += 1.0) {
+            double t = t0 + (k + u) * h;
+            if (t < seg.t0) continue; /* rounding at the segment start */
+            if (t >= seg.t1) break;
+            tau += h * vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL);
+        }
+    }
+    return exp(-tau);
+}
+
+/* The estimators work with a unit direction, so optical depth is per world unit along the ray
+ * whatever the caller's parameterization: t' = t |d|. Returns 0 for a zero/non-finite direction
+ * (no distance is travelled: T = 1). */
+int vbl_unit_ray(vbl_vec3* direction, double* t0, double* t1, double* len)
+{
+    double l = vbl_v3_length(*direction);
+    if (!(l > 0.0) || !isfinite(l)) return 0;
+    *direction = vbl_v3_scale(*direction, 1.0 / l);
+    *t0 *= l;
+    *t1 *= l;
+    *len = l;
+    return 1;
+}
+
+double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                  vbl_vec3 direction, double t0, double t1, const vbl_tracking_settings* settings,
+                                  vbl_rng* rng)
+{
+    double len;
+    if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 1.0;
+    switch (settings->estimator) {
+    case VBL_TRANSMITTANCE_RAY_MARCHING:
+        return vbl_ray_march(ext, cursor, origin, direction, t0, t1, settings, rng);
+    case VBL_TRANSMITTANCE_CACHED_DELTA:
+    case VBL_TRANSMITTANCE_CACHED_RATIO: {
+        vbl_transmittance_cache cache;
+        vbl_transmittance_cache_build(&cache, settings->estimator, ext, cursor, origin, direction, t0, t1, 0,
+                                      settings->use_global_majorant, rng);
+        return vbl_transmittance_cache_eval(&cache, t1);
+    }
+    case VBL_TRANSMITTANCE_DELTA_TRACKING:
+    case VBL_TRANSMITTANCE_RATIO_TRACKING:
+    case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
+    default: {
+        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng};
+        if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
+        vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
+        return tr.weight;
+    }
+    }
+}
+
+int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                           double* t_collision, double* sigma_t_at, double* per_component)
+{
+    double len;
+    if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng};
+    if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
+        return 0;
+    if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
+    if (sigma_t_at) *sigma_t_at = tr.sigma_stop;
+    return 1;
+}
+
+/* Internal (transmittance_cache.c): one ratio-tracking pass that reports every tentative point;
+ * the ray must have a unit direction (vbl_unit_ray). */
+int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, double t0, double t1, int use_global, vbl_rng* rng,
+                           void (*record)(void* user, double t, double weight), void* user, int max_records)
+{
+    vbl_extinction_iter iter;
+    vbl_majorant_segment seg;
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng};
+    int records = 0;
+    double t_last = t0;
+    vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
+    while (vbl_extinction_iter_next(&iter, &seg)) {
+        double mu = seg.majorant;
+        if (!(mu > 0.0)) continue;
+        double t = seg.t0;
+        for (;;) {
+            t = vbl_exp_step(t, mu, rng);
+            if (t >= seg.t1) break;
+            if (records == max_records) {
+                /* Out of room: the rest of the ray is covered by one delta-tracking distance d
+                 * drawn afresh from the last recorded point (the Poisson process after it is
+                 * independent of the stored product; the point just drawn is discarded), so
+                 * T(t) ~ w_last * 1[d > t] stays unbiased for every t. */
+                double d;
+                if (vbl_free_flight_sample(ext, cursor, origin, direction, t_last, t1, use_global, rng, &d, NULL, NULL))
+                    record(user, d, 0.0);
+                return records + 1;
+            }
+            double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL);
+            int stop = vbl_tracker_event(&tr, sigma_t, mu, 0.0);
+            record(user, t, tr.weight);
+            records++;
+            t_last = t;
+            if (stop == VBL_TRACK_STOP) return records;
+        }
+    }
+    return records;
+}

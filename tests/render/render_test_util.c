@@ -1,0 +1,79 @@
+#define _POSIX_C_SOURCE 200809L
+#include "render_test_util.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "volume_test_grid.h"
+
+void rt_make_temp_dir(char* out)
+{
+    const char* base = getenv("TMPDIR");
+    snprintf(out, 256, "%s/vbl_render_test_XXXXXX", base && base[0] ? base : "/tmp");
+    if (!mkdtemp(out)) {
+        fprintf(stderr, "mkdtemp failed\n");
+        abort();
+    }
+}
+
+void rt_write_file(const char* dir, const char* name, const char* text, char* out)
+{
+    snprintf(out, 512, "%s/%s", dir, name);
+    FILE* f = fopen(out, "wb");
+    if (!f) abort();
+    fputs(text, f);
+    fclose(f);
+}
+
+void rt_remove_dir(const char* dir)
+{
+    DIR* d = opendir(dir);
+    if (!d) return;
+    struct dirent* e;
+    char path[1024];
+    while ((e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        remove(path);
+    }
+    closedir(d);
+    rmdir(dir);
+}
+
+static double rt_one(int i, int j, int k, void* user)
+{
+    (void)i, (void)j, (void)k, (void)user;
+    return 1.0;
+}
+
+vbl_volume* rt_make_box(int n, double h, vbl_vec3 origin)
+{
+    int bmin[3] = {0, 0, 0}, bmax[3] = {n - 1, n - 1, n - 1};
+    double m[3][4];
+    vt_uniform_map(m, h, origin.x, origin.y, origin.z);
+    return vt_make(bmin, bmax, rt_one, NULL, m);
+}
+
+static double rt_profile(int n, double u)
+{
+    if (u <= -1.0 || u >= n) return 0.0;
+    if (u < 0.0) return u + 1.0;
+    if (u > n - 1) return n - u;
+    return 1.0;
+}
+
+double rt_box_density(int n, double h, vbl_vec3 origin, vbl_vec3 p)
+{
+    return rt_profile(n, (p.x - origin.x) / h) * rt_profile(n, (p.y - origin.y) / h) *
+           rt_profile(n, (p.z - origin.z) / h);
+}
+
+vbl_camera rt_camera(vbl_vec3 position, vbl_vec3 target, double fov_deg, int w, int h)
+{
+    vbl_camera cam;
+    if (vbl_camera_make(position, target, vbl_v3(0, 0, 1), fov_deg, w, h, &cam)) abort();
+    return cam;
+}

@@ -1,0 +1,24 @@
+/* Helpers for render tests: temporary directories and files, in-memory constant boxes. */
+#ifndef VBL_RENDER_TEST_UTIL_H
+#define VBL_RENDER_TEST_UTIL_H
+
+#include "scene/scene.h"
+
+/* mkdtemp under $TMPDIR (or /tmp); the path is written into `out` (size >= 256). */
+void rt_make_temp_dir(char* out);
+/* Writes `text` to dir/name; returns the full path in `out` (size >= 512). */
+void rt_write_file(const char* dir, const char* name, const char* text, char* out);
+/* Removes every regular file in `dir` and the directory (one level). */
+void rt_remove_dir(const char* dir);
+
+/* A constant-value box volume: n^3 active voxels of value 1, voxel size h, voxel (0,0,0) at
+ * world `origin` (OpenVDB convention: trilinear density 1 on [origin, origin + (n-1) h]^3,
+ * falling linearly to 0 within one voxel outside). */
+vbl_volume* rt_make_box(int n, double h, vbl_vec3 origin);
+/* The exact trilinear density of rt_make_box at a world point. */
+double rt_box_density(int n, double h, vbl_vec3 origin, vbl_vec3 p);
+
+/* A camera at `position` looking at `target`, up +z. */
+vbl_camera rt_camera(vbl_vec3 position, vbl_vec3 target, double fov_deg, int w, int h);
+
+#endif

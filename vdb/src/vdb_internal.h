@@ -1,0 +1,55 @@
+// Internal C++ side of the OpenVDB/NanoVDB adapter: the grid list both readers produce, the
+// failure type every reader throws, and the helpers shared by vdb_adapter.cc and the readers.
+#ifndef VBL_VDB_INTERNAL_H
+#define VBL_VDB_INTERNAL_H
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "vbl_vdb_adapter.h"
+
+namespace vbl_vdb {
+
+// A failure with its vbl_result; the message does not name the file (the C entry point adds it).
+struct Failure : std::runtime_error {
+    vbl_result code;
+    Failure(vbl_result c, const std::string& what) : std::runtime_error(what), code(c) {}
+};
+
+// One grid of a file in file order, as both readers describe it.
+struct GridEntry {
+    vbl_vdb_grid_desc desc;    // name, type, is_float, codec (+ counts/bbox when `described`)
+    bool described = false;    // active_voxels/index bbox/voxel size are filled in
+    std::string open_name;     // OpenVDB: unique name for io::File::readGrid ("density[1]")
+    std::size_t segment_entry = 0; // NanoVDB: entry in the file's segment metadata (file order)
+    std::uint32_t sub_grid = 0;    // NanoVDB: grid inside that entry's buffer
+};
+
+enum class FileKind { OpenVdb, NanoVdb };
+
+// Detects the file kind from its magic number; throws Failure (not found, not a VDB, too short).
+FileKind sniff_file(const std::string& path);
+
+// OpenVDB (.vdb): every grid in file order; `describe` reads the trees for counts and bboxes.
+std::vector<GridEntry> openvdb_list(const std::string& path, bool describe);
+// Reads entry `entry` (a float grid) and converts it to a NanoVDB buffer (vbl_aligned_alloc).
+void openvdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size);
+
+// NanoVDB (.nvdb): every grid in file order (multi-grid buffers expanded); reads the buffers.
+std::vector<GridEntry> nanovdb_list(const std::string& path);
+void nanovdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size);
+
+// Checks that `size` bytes at `data` (32-byte aligned) hold one well-formed NanoVDB float grid whose
+// nodes are stored level by level (the layout the core's scans rely on). Throws Failure.
+void validate_nanovdb_float_grid(const void* data, std::uint64_t size);
+
+// Copies `size` bytes into a new 32-byte aligned buffer (throws Failure on out of memory).
+void* copy_aligned(const void* data, std::size_t size);
+
+void set_string(char* dst, std::size_t capacity, const std::string& src);
+
+} // namespace vbl_vdb
+
+#endif

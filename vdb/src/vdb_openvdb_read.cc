@@ -1,0 +1,170 @@
+// OpenVDB (.vdb) reader: lists grids in file order (any file format version, half-float storage,
+// blosc/zip/active-mask codecs) and converts float grids to NanoVDB with nanovdb::openToNanoVDB.
+#include <cstring>
+#include <fstream>
+
+#include <openvdb/openvdb.h>
+#include <openvdb/io/Archive.h>
+#include <openvdb/io/Compression.h>
+#include <openvdb/io/File.h>
+#include <openvdb/io/GridDescriptor.h>
+#include <nanovdb/util/OpenToNanoVDB.h>
+
+#include "vdb_internal.h"
+
+#pragma GCC visibility push(hidden) // internal to libvbl (see vdb/CMakeLists.txt)
+
+namespace vbl_vdb {
+namespace {
+
+void initialize_openvdb()
+{
+    // openvdb::initialize() is itself thread-safe and idempotent (a mutex and a flag inside). It must
+    // not be wrapped in std::call_once: the tree-type registration it runs uses std::call_once too,
+    // and nesting the two crashes in libstdc++'s once machinery.
+    openvdb::initialize();
+}
+
+// Reads the grid descriptors in file order (io::File keeps them in a name-sorted map). This follows
+// the file layout io::File::open reads: header, file metadata, grid count, then one descriptor per
+// grid with the offsets of its data.
+class DescriptorScanner : public openvdb::io::Archive {
+public:
+    struct Item {
+        std::string unique_name, grid_type;
+        bool half = false;
+        uint32_t compression = 0;
+        bool compression_known = false;
+    };
+    std::vector<Item> scan(const std::string& path)
+    {
+        std::ifstream is(path, std::ios::in | std::ios::binary);
+        if (!is) throw Failure(VBL_ERROR_FILE_NOT_FOUND, "cannot open");
+        readHeader(is);
+        setFormatVersion(is);
+        setLibraryVersion(is);
+        setDataCompression(is);
+        openvdb::MetaMap file_meta;
+        file_meta.readMeta(is);
+        std::vector<Item> items;
+        if (!inputHasGridOffsets()) return items; // pre-2.0 files: caller falls back to io::File order
+        const int32_t count = readGridCount(is);
+        if (count < 0 || !is) throw Failure(VBL_ERROR_CORRUPT_FILE, "bad grid count");
+        for (int32_t i = 0; i < count; ++i) {
+            openvdb::io::GridDescriptor gd;
+            gd.read(is);
+            Item item;
+            item.unique_name = gd.uniqueName();
+            item.grid_type = gd.gridType();
+            item.half = gd.saveFloatAsHalf();
+            // Since format 222 each grid starts with its own compression flags.
+            if (fileVersion() >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION && !gd.isInstance()) {
+                gd.seekToGrid(is);
+                uint32_t flags = 0;
+                if (is.read(reinterpret_cast<char*>(&flags), sizeof flags)) {
+                    item.compression = flags;
+                    item.compression_known = true;
+                }
+            } else {
+                item.compression = compression();
+                item.compression_known = true;
+            }
+            items.push_back(item);
+            gd.seekToEnd(is);
+            if (!is) throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated grid descriptor table");
+        }
+        return items;
+    }
+};
+
+std::string type_name(const openvdb::GridBase& grid, bool half)
+{
+    std::string t = grid.valueType();
+    if (half && (t == "float" || t == "vec3s")) t = "half " + t;
+    return t;
+}
+
+std::string codec_name(uint32_t flags, bool known)
+{
+    if (!known) return "unknown";
+    std::string s;
+    if (flags & openvdb::io::COMPRESS_BLOSC) s = "blosc";
+    else if (flags & openvdb::io::COMPRESS_ZIP) s = "zip";
+    if (flags & openvdb::io::COMPRESS_ACTIVE_MASK) s += s.empty() ? "active mask" : " + active mask";
+    return s.empty() ? "none" : s;
+}
+
+void describe_tree(const openvdb::GridBase& grid, vbl_vdb_grid_desc& desc)
+{
+    desc.active_voxels = grid.activeVoxelCount();
+    openvdb::CoordBBox bbox = grid.evalActiveVoxelBoundingBox();
+    if (desc.active_voxels == 0) bbox = openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(-1));
+    for (int a = 0; a < 3; ++a) {
+        desc.index_bbox_min[a] = bbox.min()[a];
+        desc.index_bbox_max[a] = bbox.max()[a];
+    }
+}
+
+openvdb::io::File open_file(const std::string& path)
+{
+    openvdb::io::File file(path);
+    file.open(false); // no delayed loading: read now, so damaged files fail here, not later
+    return file;
+}
+
+} // namespace
+
+std::vector<GridEntry> openvdb_list(const std::string& path, bool describe)
+{
+    initialize_openvdb();
+    openvdb::io::File file = open_file(path);
+    std::vector<DescriptorScanner::Item> order = DescriptorScanner().scan(path);
+    if (order.empty()) { // no grid offsets (very old files): io::File's order
+        for (auto it = file.beginName(); it != file.endName(); ++it) {
+            DescriptorScanner::Item item;
+            item.unique_name = openvdb::io::GridDescriptor::stringAsUniqueName(it.gridName());
+            item.compression = file.compression();
+            item.compression_known = true;
+            order.push_back(item);
+        }
+    }
+    std::vector<GridEntry> entries;
+    for (const auto& item : order) {
+        GridEntry e;
+        std::memset(&e.desc, 0, sizeof e.desc);
+        e.open_name = openvdb::io::GridDescriptor::nameAsString(item.unique_name);
+        openvdb::GridBase::Ptr grid = describe ? file.readGrid(e.open_name) : file.readGridMetadata(e.open_name);
+        const bool half = item.half || grid->saveFloatAsHalf();
+        set_string(e.desc.name, sizeof e.desc.name, grid->getName());
+        set_string(e.desc.type, sizeof e.desc.type, type_name(*grid, half));
+        e.desc.is_float = grid->isType<openvdb::FloatGrid>();
+        set_string(e.desc.codec, sizeof e.desc.codec, codec_name(item.compression, item.compression_known));
+        openvdb::Vec3d voxel = grid->voxelSize();
+        for (int a = 0; a < 3; ++a) e.desc.voxel_size[a] = voxel[a];
+        if (describe) {
+            describe_tree(*grid, e.desc);
+            e.described = true;
+        }
+        entries.push_back(e);
+    }
+    return entries;
+}
+
+void openvdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size)
+{
+    initialize_openvdb();
+    openvdb::io::File file = open_file(path);
+    openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(entry.open_name));
+    if (!grid) throw Failure(VBL_ERROR_GRID_TYPE, "grid '" + std::string(entry.desc.name) + "' is not a float grid");
+    if (!grid->transform().baseMap()->isLinear())
+        throw Failure(VBL_ERROR_UNSUPPORTED, "grid '" + std::string(entry.desc.name) + "' has a non-affine (" +
+                                                 grid->transform().baseMap()->type() + ") transform");
+    nanovdb::GridHandle<nanovdb::HostBuffer> handle = nanovdb::openToNanoVDB(*grid);
+    if (!handle.data() || handle.size() == 0) throw Failure(VBL_ERROR_INTERNAL, "NanoVDB conversion produced no grid");
+    *buffer = copy_aligned(handle.data(), handle.size());
+    *size = handle.size();
+}
+
+} // namespace vbl_vdb
+
+#pragma GCC visibility pop
