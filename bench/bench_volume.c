@@ -161,7 +161,7 @@ int main(int argc, char** argv)
         double var, mt, lq;
         double secs = run_estimator(&ext, rays, nrays, 16, VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 1, &var, &mt, &lq);
         size_t bytes = (size_t)vb->majorant.dims[0] * vb->majorant.dims[1] * vb->majorant.dims[2] * 8u;
-        printf("| %d | %.3f | %.0f | %.3g | %.1f |\n", b, build, bytes / 1024.0, nrays * 16.0 / secs, lq);
+        printf("| %d | %.3f | %.1f | %.3g | %.1f |\n", b, build, bytes / 1024.0, nrays * 16.0 / secs, lq);
         vbl_volume_release(vb);
     }
 

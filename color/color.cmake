@@ -22,6 +22,5 @@ set_target_properties(vbl_color PROPERTIES POSITION_INDEPENDENT_CODE ON LINKER_L
 target_include_directories(vbl_color PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
 target_link_libraries(vbl_color PUBLIC vbl PRIVATE vbl::ocio PNG::PNG m)
 set(VBL_COLOR_INSTALLED_CONFIG ${CMAKE_INSTALL_FULL_DATADIR}/libvbl/libvbl.ocio)
-target_compile_definitions(vbl_color PRIVATE VBL_COLOR_INSTALLED_CONFIG="${VBL_COLOR_INSTALLED_CONFIG}"
-                           VBL_COLOR_SOURCE_CONFIG="${VBL_COLOR_CONFIG_FILE}")
+target_compile_definitions(vbl_color PRIVATE VBL_COLOR_INSTALLED_CONFIG="${VBL_COLOR_INSTALLED_CONFIG}")
 install(FILES ${VBL_COLOR_CONFIG_FILE} DESTINATION ${CMAKE_INSTALL_DATADIR}/libvbl)

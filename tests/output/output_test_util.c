@@ -61,7 +61,7 @@ const char* out_path(const char* dir, const char* name)
 
 int out_run(const char* command, char** output)
 {
-    char full[4096];
+    char full[9000];
     snprintf(full, sizeof full, "%s 2>&1", command);
     FILE* pipe = popen(full, "r");
     if (!pipe) return -1;

@@ -278,8 +278,20 @@ static void test_failing_write_leaves_previous_file(void** s)
         assert_int_equal(out_count_entries(dir, first, sizeof first), 1);
         assert_string_equal(first, "full.exr");
     }
+    /* The DWAA path (OpenEXR's C++ library) fails the same way. */
+    opt.compression = VBL_EXR_COMPRESSION_DWAA;
+    for (int64_t limit = 0; limit <= 2000; limit += 1000) {
+        vbl_exr_test_set_write_limit(limit);
+        vbl_result r = vbl_exr_write(path, w, h, &layer, 1, &opt);
+        vbl_exr_test_set_write_limit(-1);
+        assert_int_equal(r, VBL_ERROR_FILE_IO);
+        const char* msg = vbl_last_error_message();
+        if (!strstr(msg, path) || !strstr(msg, "No space left")) fail_msg("unclear message: %s", msg);
+        assert_int_equal(out_count_entries(dir, NULL, 0), 1);
+    }
     vbl_exr_image* img = NULL;
     assert_int_equal(vbl_exr_read(path, &img), VBL_SUCCESS);
+    assert_int_equal(vbl_exr_image_compression(img), VBL_EXR_COMPRESSION_NONE);
     assert_true(vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "R"))[0] == pattern(0, 0, 0, 0));
     vbl_exr_image_release(img);
     free(px);

@@ -88,7 +88,7 @@ static unsigned char* read_png(const char* path)
 
 static int run(const char* args, char** out)
 {
-    char cmd[4096];
+    char cmd[8192];
     snprintf(cmd, sizeof cmd, "'%s' preview %s", vbl_bin, args);
     return out_run(cmd, out);
 }
@@ -97,7 +97,7 @@ static void test_beauty_and_layers(void** s)
 {
     (void)s;
     const char* png = out_path(dir, "beauty.png");
-    char args[2048], *out = NULL;
+    char args[4096], *out = NULL;
     snprintf(args, sizeof args, "'%s' -o '%s' --exposure 1", exr, png);
     if (run(args, &out) != 0) fail_msg("%s", out);
     free(out);
@@ -120,7 +120,7 @@ static void test_beauty_and_layers(void** s)
     if (run(args, &out) != 0) fail_msg("%s", out);
     free(out);
     px = read_png(png);
-    for (int i = 0; i < W * H; ++i) assert_int_equal(px[i * 3 + 1], (int)lrint(255.0 * 0.1f * (float)i));
+    for (int i = 0; i < W * H; ++i) assert_int_equal(px[i * 3 + 1], (int)lrintf(0.1f * (float)i * 255.0f));
     free(px);
 }
 
@@ -136,7 +136,7 @@ static void test_tagged_colour_space(void** s)
     char a_copy[1024];
     snprintf(a_copy, sizeof a_copy, "%s", a);
     const char* b = out_path(dir, "b.png");
-    char args[2048];
+    char args[4096];
     snprintf(args, sizeof args, "'%s' -o '%s'", tagged_copy, a_copy);
     assert_int_equal(run(args, NULL), 0);
     snprintf(args, sizeof args, "'%s' -o '%s' --input-space scene_linear", tagged_copy, b);
@@ -154,7 +154,7 @@ static void test_errors(void** s)
     const char* png = out_path(dir, "never.png");
     char png_copy[1024];
     snprintf(png_copy, sizeof png_copy, "%s", png);
-    char args[2048], *out = NULL;
+    char args[4096], *out = NULL;
     struct {
         const char* extra;
         int code;

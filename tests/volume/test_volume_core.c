@@ -215,7 +215,7 @@ static void test_estimators_constant_box(void** state)
             opt.density_scale = scale;
             opt.seed = 100 + (uint64_t)k;
             vbl_transmittance_result res;
-            assert_int_equal(vbl_volume_transmittance(v, o, d, 0.0, ts[k], &opt, 20000, &res), VBL_SUCCESS);
+            assert_int_equal(vbl_volume_transmittance(v, o, d, 0.0, ts[k], &opt, 5000, &res), VBL_SUCCESS);
             char what[64];
             snprintf(what, sizeof what, "%s t=%g", vbl_transmittance_estimator_name(opt.estimator), ts[k]);
             assert_within(res.mean, res.std_error, exp(-tau), 4.0, what);
@@ -256,7 +256,7 @@ static void test_estimators_linear_ramp(void** state)
             opt.density_scale = scale;
             opt.seed = 7 + (uint64_t)k;
             vbl_transmittance_result res;
-            assert_int_equal(vbl_volume_transmittance(v, o, d, 0.0, ts[k], &opt, 20000, &res), VBL_SUCCESS);
+            assert_int_equal(vbl_volume_transmittance(v, o, d, 0.0, ts[k], &opt, 5000, &res), VBL_SUCCESS);
             char what[64];
             snprintf(what, sizeof what, "ramp %s t=%g", vbl_transmittance_estimator_name(opt.estimator), ts[k]);
             assert_within(res.mean, res.std_error, exp(-tau), 4.0, what);
@@ -296,7 +296,7 @@ static void test_caches_every_t(void** state)
     const double ts[5] = {0.0, 2.0, 5.5, 9.0, 15.0};
     for (int kind = VBL_TRANSMITTANCE_CACHED_DELTA; kind <= VBL_TRANSMITTANCE_CACHED_RATIO; ++kind) {
         double sum[5] = {0}, sum2[5] = {0};
-        const int caches = 6000;
+        const int caches = 3000;
         for (int i = 0; i < caches; ++i) {
             vbl_rng rng = vbl_rng_make(99, (uint64_t)kind, (uint64_t)i);
             vbl_transmittance_cache cache;
@@ -377,7 +377,7 @@ static void test_free_flight_distribution(void** state)
     vbl_extinction_cursor cur;
     vbl_extinction_cursor_init(&cur, &ext);
     vbl_vec3 o = vbl_v3(0.0, 7.5, 7.5), d = vbl_v3(1.0, 0.0, 0.0);
-    int hits[3] = {0}, n = 20000;
+    int hits[3] = {0}, n = 8000;
     const double ts[3] = {3.0, 8.0, 15.0};
     for (int i = 0; i < n; ++i) {
         vbl_rng rng = vbl_rng_make(3, 1, (uint64_t)i);
@@ -412,7 +412,7 @@ static void test_parity_global_majorant(void** state)
     for (int e = 0; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e) {
         double s[2] = {0}, s2[2] = {0};
         uint64_t lookups[2];
-        const int n = 20000;
+        const int n = 8000;
         for (int g = 0; g < 2; ++g) {
             uint64_t before = vbl_extinction_cursor_lookups(&cur);
             vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, g};
@@ -471,7 +471,7 @@ static void test_multi_component(void** state)
     double tau = 0.05 * box_profile_integral(40.0) + 0.03 * box_profile_integral(40.0);
     for (int e = 0; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e) {
         double sum = 0, sum2 = 0;
-        const int n = 20000;
+        const int n = 8000;
         vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0};
         for (int i = 0; i < n; ++i) {
             vbl_rng rng = vbl_rng_make(12, (uint64_t)e, (uint64_t)i);

@@ -10,6 +10,7 @@
 #include <openvdb/io/GridDescriptor.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
 
+#include "core/alloc.h"
 #include "vdb_internal.h"
 
 #pragma GCC visibility push(hidden) // internal to libvbl (see vdb/CMakeLists.txt)
@@ -77,6 +78,56 @@ public:
     }
 };
 
+// NanoVDB buffer type that allocates with vbl_aligned_alloc, so the converted grid is handed to the core
+// without another copy (openToNanoVDB builds straight into it).
+class AlignedBuffer {
+public:
+    AlignedBuffer() = default;
+    AlignedBuffer(const AlignedBuffer&) = delete;
+    AlignedBuffer& operator=(const AlignedBuffer&) = delete;
+    AlignedBuffer(AlignedBuffer&& other) noexcept : mData(other.mData), mSize(other.mSize) { other.mData = nullptr, other.mSize = 0; }
+    AlignedBuffer& operator=(AlignedBuffer&& other) noexcept
+    {
+        if (this != &other) {
+            clear();
+            mData = other.mData;
+            mSize = other.mSize;
+            other.mData = nullptr;
+            other.mSize = 0;
+        }
+        return *this;
+    }
+    ~AlignedBuffer() { clear(); }
+    static AlignedBuffer create(uint64_t size, const AlignedBuffer* = nullptr)
+    {
+        AlignedBuffer b;
+        b.mData = static_cast<uint8_t*>(vbl_aligned_alloc(NANOVDB_DATA_ALIGNMENT, size));
+        if (!b.mData) throw std::bad_alloc();
+        b.mSize = size;
+        return b;
+    }
+    uint8_t* data() const { return mData; }
+    uint64_t size() const { return mSize; }
+    bool empty() const { return mSize == 0; }
+    void clear()
+    {
+        vbl_aligned_free(mData);
+        mData = nullptr;
+        mSize = 0;
+    }
+    void* release()
+    {
+        void* p = mData;
+        mData = nullptr;
+        mSize = 0;
+        return p;
+    }
+
+private:
+    uint8_t* mData = nullptr;
+    uint64_t mSize = 0;
+};
+
 std::string type_name(const openvdb::GridBase& grid, bool half)
 {
     std::string t = grid.valueType();
@@ -105,19 +156,13 @@ void describe_tree(const openvdb::GridBase& grid, vbl_vdb_grid_desc& desc)
     }
 }
 
-openvdb::io::File open_file(const std::string& path)
-{
-    openvdb::io::File file(path);
-    file.open(false); // no delayed loading: read now, so damaged files fail here, not later
-    return file;
-}
-
 } // namespace
 
 std::vector<GridEntry> openvdb_list(const std::string& path, bool describe)
 {
     initialize_openvdb();
-    openvdb::io::File file = open_file(path);
+    openvdb::io::File file(path);
+    file.open(false); // no delayed loading: read now, so damaged files fail here, not later
     std::vector<DescriptorScanner::Item> order = DescriptorScanner().scan(path);
     if (order.empty()) { // no grid offsets (very old files): io::File's order
         for (auto it = file.beginName(); it != file.endName(); ++it) {
@@ -153,16 +198,17 @@ std::vector<GridEntry> openvdb_list(const std::string& path, bool describe)
 void openvdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size)
 {
     initialize_openvdb();
-    openvdb::io::File file = open_file(path);
+    openvdb::io::File file(path);
+    file.open(false);
     openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(entry.open_name));
     if (!grid) throw Failure(VBL_ERROR_GRID_TYPE, "grid '" + std::string(entry.desc.name) + "' is not a float grid");
     if (!grid->transform().baseMap()->isLinear())
         throw Failure(VBL_ERROR_UNSUPPORTED, "grid '" + std::string(entry.desc.name) + "' has a non-affine (" +
                                                  grid->transform().baseMap()->type() + ") transform");
-    nanovdb::GridHandle<nanovdb::HostBuffer> handle = nanovdb::openToNanoVDB(*grid);
+    nanovdb::GridHandle<AlignedBuffer> handle = nanovdb::openToNanoVDB<AlignedBuffer, openvdb::FloatTree>(*grid);
     if (!handle.data() || handle.size() == 0) throw Failure(VBL_ERROR_INTERNAL, "NanoVDB conversion produced no grid");
-    *buffer = copy_aligned(handle.data(), handle.size());
     *size = handle.size();
+    *buffer = handle.buffer().release();
 }
 
 } // namespace vbl_vdb

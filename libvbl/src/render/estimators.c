@@ -1,13 +1,15 @@
 /* Method -> estimator table. vpl and vrl plug in here (transport/vpl.h, transport/vrl.h). */
 #include "transport/estimator.h"
 #include "transport/pt.h"
+#include "transport/vpl.h"
+#include "transport/vrl.h"
 
 const vbl_estimator* vbl_estimator_for(vbl_render_method method)
 {
     switch (method) {
     case VBL_RENDER_PT: return &vbl_estimator_pt;
-    case VBL_RENDER_VPL: return NULL; /* not implemented yet */
-    case VBL_RENDER_VRL: return NULL; /* not implemented yet */
+    case VBL_RENDER_VPL: return &vbl_estimator_vpl;
+    case VBL_RENDER_VRL: return &vbl_estimator_vrl;
     }
     return NULL;
 }

@@ -336,12 +336,6 @@ vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char*
     return VBL_SUCCESS;
 }
 
-static int vbl_has_suffix(const char* path, const char* suffix)
-{
-    size_t n = strlen(path), m = strlen(suffix);
-    return n >= m && !strcmp(path + n - m, suffix);
-}
-
 VBL_API vbl_result vbl_volume_load(const char* path, const vbl_volume_load_options* options, vbl_volume** out_volume)
 {
     vbl_volume_load_options defaults = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
@@ -353,7 +347,7 @@ VBL_API vbl_result vbl_volume_load(const char* path, const vbl_volume_load_optio
                          sizeof(vbl_volume_load_options));
     if (options->bad_voxels != VBL_BAD_VOXELS_REJECT && options->bad_voxels != VBL_BAD_VOXELS_SANITIZE)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: unknown bad-voxel policy %d", path, (int)options->bad_voxels);
-    (void)vbl_has_suffix; /* dispatch is on the file's magic number, not its extension */
+    /* The adapter dispatches on the file's magic number (OpenVDB or NanoVDB), not on its extension. */
     char message[2048];
     void* buffer = NULL;
     size_t size = 0;

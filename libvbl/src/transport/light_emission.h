@@ -1,0 +1,47 @@
+/* Light emission for photon tracing (sampling a photon's origin, direction and flux) and the
+ * directly visible emission of quad/environment lights along camera rays (the emission layer of
+ * the virtual-light methods, the same quantity pt puts there).
+ *
+ * Emission sampling, per light (u: four uniforms), returning the flux weight
+ * Phi = L_e * |cos| / pdf(origin, direction) of the sample (divide by the number of paths and the
+ * light-selection probability for a photon's power):
+ *   point:       direction uniform on the sphere, pdf 1/(4 pi):            Phi = 4 pi I
+ *   spot:        direction uniform in the outer cone, pdf 1/(2 pi (1-cos_o)):
+ *                                                                  Phi = 2 pi (1-cos_o) I falloff
+ *   distant:     origin uniform on a disc of radius R (the media bounding sphere) perpendicular
+ *                to the travel direction, upstream of the sphere, pdf 1/(pi R^2): Phi = E pi R^2
+ *   quad:        origin uniform on the quad (pdf 1/A), cosine-weighted direction about its
+ *                normal (pdf cos/pi):                                      Phi = L A pi
+ *   environment: travel direction uniform on the sphere (pdf 1/(4 pi)), origin uniform on the
+ *                disc of radius R perpendicular to it upstream of the bounding sphere
+ *                (pdf 1/(pi R^2)):                                         Phi = L 4 pi pi R^2
+ * Distant/environment photons that miss the disc's sphere never reach the media, so restricting
+ * origins to the disc loses no light that matters. */
+#ifndef VBL_TRANSPORT_LIGHT_EMISSION_H
+#define VBL_TRANSPORT_LIGHT_EMISSION_H
+
+#include "transport/estimator.h"
+
+/* Bounding sphere of all media in scene space (from the volumes' world bounding boxes mapped by
+ * their placements). Returns 0 if the scene has no media. */
+int vbl_media_bounding_sphere(const vbl_scene* scene, vbl_vec3* center, double* radius);
+
+typedef struct vbl_emission_sample {
+    vbl_vec3 origin, direction; /* unit direction of travel */
+    vbl_vec3 flux;              /* L_e |cos| / pdf, see above */
+} vbl_emission_sample;
+
+/* Samples an emitted photon; returns 0 when the sample carries no light. */
+int vbl_light_sample_emission(const vbl_light* light, vbl_vec3 sphere_center, double sphere_radius,
+                              const double u[4], vbl_emission_sample* out);
+
+/* Total emitted flux reaching the bounding sphere's disc, as a scalar (mean of RGB): the expected
+ * value of mean(flux) over emission samples. Used to select lights proportionally to power. */
+double vbl_light_power(const vbl_light* light, double sphere_radius);
+
+/* Adds quad/environment light seen directly along the camera ray, attenuated by the media
+ * (one transmittance estimate per visible light), to out->L[VBL_CLASS_EMISSION]. */
+void vbl_add_visible_emission(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                              vbl_vec3 direction, vbl_rng* rng, vbl_sample_value* out);
+
+#endif

@@ -1,0 +1,294 @@
+/* Photon tracing into VRL/VPL stores (see photon_trace.h for the estimator and its weights). */
+#include "transport/photon_trace.h"
+
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "scene/media.h"
+#include "transport/light_emission.h"
+#include "volume/transmittance_cache.h"
+
+/* Paths are traced in fixed blocks (independent of the thread count) whose records are
+ * concatenated in block order, so the store is identical at any thread count. */
+#define VBL_PHOTON_BLOCK 64
+
+typedef struct vbl_photon_block {
+    vbl_vrl* vrls;
+    size_t vrl_count, vrl_cap;
+    vbl_vpl* vpls;
+    size_t vpl_count, vpl_cap;
+    double* pool;
+    size_t pool_count, pool_cap; /* pairs */
+    int failed;
+} vbl_photon_block;
+
+static int vbl_grow(void** data, size_t* cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return 1;
+    size_t n = *cap ? *cap * 2 : 16;
+    while (n < need) n *= 2;
+    void* p = realloc(*data, n * elem);
+    if (!p) return 0;
+    *data = p;
+    *cap = n;
+    return 1;
+}
+
+double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t)
+{
+    double w = 0.0, g = 0.0;
+    for (int i = 0; i < scene->media_count; ++i) {
+        if (!(component_sigma_t[i] > 0.0)) continue;
+        const vbl_vec3 a = scene->media[i].albedo;
+        double s = component_sigma_t[i] * (a.x + a.y + a.z);
+        w += s;
+        g += s * scene->media[i].g;
+    }
+    return w > 0.0 ? g / w : 0.0;
+}
+
+double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, double v)
+{
+    if (vrl->cache_count <= 0) return 1.0; /* short VRL, or no collision recorded */
+    const double* p = store->cache_pool + 2 * vrl->cache_offset;
+    int lo = 0, hi = vrl->cache_count; /* first index with t > v */
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (p[2 * mid] <= v) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo == 0 ? 1.0 : p[2 * (lo - 1) + 1];
+}
+
+typedef struct vbl_trace_shared {
+    const vbl_render_context* ctx;
+    const vbl_photon_settings* settings;
+    vbl_vec3 center;
+    double radius;
+    double light_cdf[VBL_MAX_LIGHTS + 1];
+    double power_total;
+} vbl_trace_shared;
+
+static double vbl_max3(vbl_vec3 v) { return vbl_v3_max_component(v); }
+
+static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_transmittance_cache* tmp,
+                          vbl_rng* rng, vbl_photon_block* blk)
+{
+    const vbl_render_context* ctx = sh->ctx;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_extinction* ext = ctx->extinction;
+    const vbl_photon_settings* st = sh->settings;
+    const int M = ctx->options.max_bounces;
+    const int use_global = ctx->tracking.use_global_majorant;
+
+    /* light selection proportional to power */
+    double target = vbl_rng_uniform(rng) * sh->power_total;
+    int pick = -1;
+    for (int i = 0; i < scene->light_count; ++i)
+        if (sh->light_cdf[i + 1] > sh->light_cdf[i]) {
+            pick = i;
+            if (target < sh->light_cdf[i + 1]) break;
+        }
+    if (pick < 0) return;
+    double select_pdf = (sh->light_cdf[pick + 1] - sh->light_cdf[pick]) / sh->power_total;
+    double u[4];
+    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(rng);
+    vbl_emission_sample es;
+    if (!vbl_light_sample_emission(&scene->lights[pick], sh->center, sh->radius, u, &es)) return;
+    vbl_vec3 phi = vbl_v3_scale(es.flux, 1.0 / (select_pdf * (double)ctx->options.light_paths));
+    const double phi0 = vbl_max3(phi);
+    if (!(phi0 > 0.0)) return;
+
+    vbl_vec3 x = es.origin, d = es.direction;
+    double comps[VBL_MAX_MEDIA] = {0};
+    double mid_comps[VBL_MAX_MEDIA] = {0};
+    for (int k = 0;; ++k) {
+        double t0, t1;
+        if (!vbl_extinction_ray_bounds(ext, x, d, 0.0, INFINITY, &t0, &t1) || !(t1 > t0)) return;
+        double t = 0.0, sigma_t = 0.0;
+        int collided = vbl_free_flight_sample(ext, cursor, x, d, t0, t1, use_global, rng, &t, &sigma_t, comps);
+        if (st->store_vrls && (M < 0 || k + 2 <= M)) {
+            double end = (collided && !st->long_vrls) ? t : t1;
+            if (end > t0) {
+                if (!vbl_grow((void**)&blk->vrls, &blk->vrl_cap, blk->vrl_count + 1, sizeof(vbl_vrl))) {
+                    blk->failed = 1;
+                    return;
+                }
+                vbl_vrl* r = &blk->vrls[blk->vrl_count++];
+                r->origin = vbl_v3_madd(x, d, t0);
+                r->direction = d;
+                r->length = end - t0;
+                r->power = phi;
+                if (scene->media_count == 1) {
+                    r->g = scene->media[0].g;
+                } else {
+                    vbl_extinction_eval(ext, cursor, vbl_v3_madd(x, d, 0.5 * (t0 + end)), mid_comps);
+                    r->g = vbl_media_mean_g(scene, mid_comps);
+                }
+                r->bounce = k;
+                r->cache_count = 0;
+                r->cache_offset = 0;
+                if (st->long_vrls) {
+                    vbl_transmittance_cache_build(tmp, st->cache_kind, ext, cursor, r->origin, d, 0.0, r->length,
+                                                  st->cache_entries, use_global, rng);
+                    if (!vbl_grow((void**)&blk->pool, &blk->pool_cap, blk->pool_count + (size_t)tmp->count,
+                                  2 * sizeof(double))) {
+                        blk->failed = 1;
+                        return;
+                    }
+                    r->cache_offset = blk->pool_count;
+                    r->cache_count = tmp->count;
+                    for (int i = 0; i < tmp->count; ++i) {
+                        blk->pool[2 * (blk->pool_count + i)] = tmp->t[i];
+                        blk->pool[2 * (blk->pool_count + i) + 1] = tmp->value[i];
+                    }
+                    blk->pool_count += (size_t)tmp->count;
+                }
+            }
+        }
+        if (!collided || !(sigma_t > 0.0)) return;
+        x = vbl_v3_madd(x, d, t);
+        const int vertex = k + 1;
+        if (st->store_vpls && (M < 0 || vertex <= M - 1)) {
+            if (!vbl_grow((void**)&blk->vpls, &blk->vpl_cap, blk->vpl_count + 1, sizeof(vbl_vpl))) {
+                blk->failed = 1;
+                return;
+            }
+            vbl_vpl* p = &blk->vpls[blk->vpl_count++];
+            p->position = x;
+            p->incident = d;
+            p->power = phi;
+            for (int i = 0; i < VBL_MAX_MEDIA; ++i) p->fraction[i] = i < scene->media_count ? comps[i] / sigma_t : 0.0;
+            p->g = vbl_media_mean_g(scene, comps);
+            p->bounce = vertex;
+        }
+        if (M >= 0 && vertex > M - 2) return;
+        double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+        vbl_vec3 wi;
+        double pdf = 0.0;
+        if (!vbl_media_sample_phase(scene, comps, d, u0, u1, u2, &wi, &pdf)) return;
+        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, comps, vbl_v3_dot(d, wi));
+        phi = vbl_v3_scale(vbl_v3_mul(phi, kernel), 1.0 / (pdf * sigma_t));
+        if (!(vbl_max3(phi) > 0.0)) return;
+        if (vertex >= 2) {
+            double q = fmin(1.0, vbl_max3(phi) / phi0);
+            if (vbl_rng_uniform(rng) >= q) return;
+            phi = vbl_v3_scale(phi, 1.0 / q);
+        }
+        d = wi;
+    }
+}
+
+void vbl_photon_store_free(vbl_photon_store* store)
+{
+    if (!store) return;
+    free(store->vrls);
+    free(store->vpls);
+    free(store->cache_pool);
+    memset(store, 0, sizeof *store);
+}
+
+vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                            vbl_photon_store* out)
+{
+    memset(out, 0, sizeof *out);
+    const vbl_scene* scene = ctx->scene;
+    const int n = ctx->options.light_paths;
+    const int M = ctx->options.max_bounces;
+    if (n <= 0 || scene->light_count == 0 || ctx->extinction->count == 0 || (M >= 0 && M < 2)) return VBL_SUCCESS;
+
+    vbl_trace_shared sh;
+    memset(&sh, 0, sizeof sh);
+    sh.ctx = ctx;
+    sh.settings = settings;
+    if (!vbl_media_bounding_sphere(scene, &sh.center, &sh.radius)) return VBL_SUCCESS;
+    sh.light_cdf[0] = 0.0;
+    for (int i = 0; i < scene->light_count; ++i) {
+        double p = vbl_light_power(&scene->lights[i], sh.radius);
+        sh.light_cdf[i + 1] = sh.light_cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
+    }
+    sh.power_total = sh.light_cdf[scene->light_count];
+    if (!(sh.power_total > 0.0)) return VBL_SUCCESS;
+
+    const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;
+    vbl_photon_block* blk = calloc((size_t)blocks, sizeof *blk);
+    if (!blk) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d light paths", scene->path, n);
+    const uint64_t seed = ctx->options.seed ^ VBL_RNG_DOMAIN_LIGHT;
+#pragma omp parallel num_threads(ctx->threads)
+    {
+        vbl_extinction_cursor cursor;
+        vbl_extinction_cursor_init(&cursor, ctx->extinction);
+        vbl_transmittance_cache* tmp = settings->long_vrls ? malloc(sizeof *tmp) : NULL;
+#pragma omp for schedule(dynamic, 1)
+        for (int b = 0; b < blocks; ++b) {
+            if (settings->long_vrls && !tmp) {
+                blk[b].failed = 1;
+                continue;
+            }
+            int end = (b + 1) * VBL_PHOTON_BLOCK < n ? (b + 1) * VBL_PHOTON_BLOCK : n;
+            for (int i = b * VBL_PHOTON_BLOCK; i < end && !blk[b].failed; ++i) {
+                vbl_rng rng = vbl_rng_make(seed, ctx->pass, (uint64_t)i);
+                vbl_trace_one(&sh, &cursor, tmp, &rng, &blk[b]);
+            }
+        }
+        free(tmp);
+    }
+
+    size_t nv = 0, np = 0, nc = 0;
+    int failed = 0;
+    for (int b = 0; b < blocks; ++b) {
+        nv += blk[b].vrl_count;
+        np += blk[b].vpl_count;
+        nc += blk[b].pool_count;
+        failed |= blk[b].failed;
+    }
+    if (!failed) {
+        out->vrls = nv ? malloc(nv * sizeof(vbl_vrl)) : NULL;
+        out->vpls = np ? malloc(np * sizeof(vbl_vpl)) : NULL;
+        out->cache_pool = nc ? malloc(nc * 2 * sizeof(double)) : NULL;
+        failed = (nv && !out->vrls) || (np && !out->vpls) || (nc && !out->cache_pool);
+    }
+    if (!failed) {
+        for (int b = 0; b < blocks; ++b) {
+            for (size_t i = 0; i < blk[b].vrl_count; ++i) {
+                vbl_vrl r = blk[b].vrls[i];
+                r.cache_offset += out->cache_pool_count;
+                out->vrls[out->vrl_count++] = r;
+            }
+            if (blk[b].vpl_count) memcpy(out->vpls + out->vpl_count, blk[b].vpls, blk[b].vpl_count * sizeof(vbl_vpl));
+            out->vpl_count += blk[b].vpl_count;
+            if (blk[b].pool_count)
+                memcpy(out->cache_pool + 2 * out->cache_pool_count, blk[b].pool, blk[b].pool_count * 2 * sizeof(double));
+            out->cache_pool_count += blk[b].pool_count;
+        }
+        out->paths = (size_t)n;
+    }
+    for (int b = 0; b < blocks; ++b) {
+        free(blk[b].vrls);
+        free(blk[b].vpls);
+        free(blk[b].pool);
+    }
+    free(blk);
+    if (failed) {
+        vbl_photon_store_free(out);
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory storing virtual lights for %d light paths",
+                         scene->path, n);
+    }
+    return VBL_SUCCESS;
+}
+
+int vbl_camera_segment_cache(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 direction,
+                             vbl_rng* rng, vbl_transmittance_cache* cache, double* u0, double* u1)
+{
+    if (ctx->extinction->count == 0 ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, INFINITY, u0, u1) || !(*u1 > *u0))
+        return 0;
+    vbl_transmittance_estimator kind =
+        ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA ? VBL_TRANSMITTANCE_CACHED_DELTA
+                                                                     : VBL_TRANSMITTANCE_CACHED_RATIO;
+    vbl_transmittance_cache_build(cache, kind, ctx->extinction, &ts->cursor, origin, direction, *u0, *u1, 16,
+                                  ctx->tracking.use_global_majorant, rng);
+    return 1;
+}

@@ -1,0 +1,95 @@
+/* Photon tracing for the virtual-light methods (vpl, vrl): random walks from the lights through
+ * the media by delta tracking, recorded as virtual ray lights (path segments in the media) and
+ * virtual point lights (scattering vertices).
+ *
+ * Path i of pass p draws from vbl_rng_make(seed ^ VBL_RNG_DOMAIN_LIGHT, p, i). A light is chosen
+ * with probability proportional to vbl_light_power; its emission sample (light_emission.h) has
+ * flux weight F, so the photon starts with power Phi_0 = F / (select_pdf * light_paths): summing
+ * over the light_paths paths of a pass gives an unbiased estimate of the emitted flux.
+ *
+ * Walk: segment k (k = 0 straight from the light) runs from the light / vertex k into the media
+ * (clipped to the media bounds along the ray). A delta-tracking free flight (density
+ * sigma_t T) ends it at vertex k+1 or lets it escape. At a vertex the direction is resampled
+ * from the sigma_s-weighted phase mixture and Phi_{k+1} = Phi_k * kernel / (sigma_t pdf)
+ * (= Phi_k * albedo for a single medium). From vertex 2 on, Russian roulette with survival
+ * q = min(1, max(Phi) / max(Phi_0)) (survivors divided by q, unbiased).
+ *
+ * Records (light carried by segment k has scattered k times; scattering once more on it and once
+ * at the camera point makes k + 2 events, so the virtual lights only ever produce
+ * volume_from_volume; single scattering is the shared single_scatter estimator's job):
+ *   VRL k: origin = the segment's entry into the media, unit direction, power Phi_k and
+ *          - short VRLs (default): length to the free-flight collision (or the media exit if the
+ *            photon escaped). Transmittance along the VRL is then accounted for by the random
+ *            length (P(collision beyond v) = T(v)), so estimators use T_vrl = 1;
+ *          - long VRLs: length to the media exit along the ray, plus a cached transmittance
+ *            (vbl_transmittance_cache over the segment, stored compactly) for T(v).
+ *   VPL k (vertex k >= 1): position, incident travel direction, power Phi_{k-1} arriving, and
+ *          the per-medium fractions sigma_t,i / sigma_t at the vertex, so that the VPL's
+ *          intensity toward w is Phi * sum_i fraction_i albedo_i HG_i(cos) (= Phi kernel/sigma_t).
+ * max_bounces M >= 0: only VRLs with k + 2 <= M and VPLs with k + 1 <= M are stored, and walks
+ * stop as soon as nothing more can be stored. */
+#ifndef VBL_TRANSPORT_PHOTON_TRACE_H
+#define VBL_TRANSPORT_PHOTON_TRACE_H
+
+#include <stddef.h>
+
+#include "transport/estimator.h"
+
+typedef struct vbl_vrl {
+    vbl_vec3 origin, direction; /* direction unit */
+    double length;
+    vbl_vec3 power;             /* flux carried along the segment */
+    double g;                   /* sigma_s-weighted HG g at its start (for the pair sampler) */
+    int bounce;                 /* scattering events before this segment (0: from the light) */
+    int cache_count;            /* long VRLs: entries in the store's cache pool */
+    size_t cache_offset;
+} vbl_vrl;
+
+typedef struct vbl_vpl {
+    vbl_vec3 position;
+    vbl_vec3 incident;          /* unit travel direction of the arriving photon */
+    vbl_vec3 power;             /* flux arriving at the vertex */
+    double fraction[VBL_MAX_MEDIA]; /* sigma_t,i / sigma_t at the vertex */
+    double g;                   /* sigma_s-weighted HG g at the vertex */
+    int bounce;                 /* scattering events including this one (>= 1) */
+} vbl_vpl;
+
+typedef struct vbl_photon_settings {
+    int store_vrls;
+    int store_vpls;
+    int long_vrls;              /* 1: VRLs run to the media exit with cached T (see above) */
+    vbl_transmittance_estimator cache_kind; /* long VRLs: CACHED_DELTA or CACHED_RATIO */
+    int cache_entries;          /* CACHED_DELTA distances per VRL */
+} vbl_photon_settings;
+
+typedef struct vbl_photon_store {
+    vbl_vrl* vrls;
+    size_t vrl_count;
+    vbl_vpl* vpls;
+    size_t vpl_count;
+    double* cache_pool;          /* long VRLs: (t, value) pairs */
+    size_t cache_pool_count;     /* pairs */
+    size_t paths;                /* light paths traced */
+} vbl_photon_store;
+
+/* Traces ctx->options.light_paths paths for pass ctx->pass (OpenMP with ctx->threads; the result
+ * does not depend on the thread count). */
+vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                            vbl_photon_store* out);
+void vbl_photon_store_free(vbl_photon_store* store);
+
+/* T(0, v) along a long VRL from its cache (1 for short VRLs): the cache's step function. */
+double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, double v);
+
+/* sigma_s-weighted mean HG g of the media at a point with per-component sigma_t (0 if none). */
+double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t);
+
+/* The camera ray's overlap [u0, u1] with the media and one cached transmittance estimate over
+ * it (CACHED_DELTA when options.transmittance asks for it, else CACHED_RATIO), shared by all
+ * virtual lights of the camera sample (unbiased: the cache is independent of their samples).
+ * Returns 0 if the ray misses the media. */
+struct vbl_transmittance_cache;
+int vbl_camera_segment_cache(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 direction,
+                             vbl_rng* rng, struct vbl_transmittance_cache* cache, double* u0, double* u1);
+
+#endif

@@ -1,0 +1,106 @@
+/* Virtual point lights along camera rays (vpl.h). */
+#include "transport/vpl.h"
+
+#include <stdlib.h>
+
+#include "core/error.h"
+#include "sampling/equiangular.h"
+#include "sampling/phase_hg.h"
+#include "scene/media.h"
+#include "transport/light_emission.h"
+#include "transport/photon_trace.h"
+#include "transport/single_scatter.h"
+#include "volume/transmittance_cache.h"
+
+typedef struct vbl_vpl_store {
+    vbl_vpl_settings settings;
+    vbl_photon_store photons;
+} vbl_vpl_store;
+
+vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store)
+{
+    *store = NULL;
+    vbl_vpl_store* s = calloc(1, sizeof *s);
+    if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vpl store)", ctx->scene->path);
+    s->settings = *settings;
+    vbl_photon_settings ps = {0, 1, 0, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    if (r) {
+        free(s);
+        return r;
+    }
+    *store = s;
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_vpl_pass_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vpl_settings settings = VBL_VPL_SETTINGS_DEFAULT;
+    return vbl_vpl_pass_begin_with(ctx, &settings, store);
+}
+
+void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store)
+{
+    (void)ctx;
+    vbl_vpl_store* s = store;
+    if (!s) return;
+    vbl_photon_store_free(&s->photons);
+    free(s);
+}
+
+/* Phi * sum_i fraction_i albedo_i HG_i(cos): the VPL's radiant intensity toward cos. */
+static vbl_vec3 vbl_vpl_intensity(const vbl_scene* scene, const vbl_vpl* p, double cos_theta)
+{
+    vbl_vec3 k = vbl_v3(0.0, 0.0, 0.0);
+    for (int i = 0; i < scene->media_count; ++i)
+        if (p->fraction[i] > 0.0)
+            k = vbl_v3_madd(k, scene->media[i].albedo, p->fraction[i] * vbl_hg_eval(scene->media[i].g, cos_theta));
+    return vbl_v3_mul(k, p->power);
+}
+
+void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_vpl_store* s = store;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_vec3 o = sample->origin, d = sample->direction;
+    const int M = ctx->options.max_bounces;
+    vbl_add_visible_emission(ctx, ts, o, d, rng, out);
+    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (!s || s->photons.vpl_count == 0) return;
+
+    vbl_transmittance_cache cache;
+    double u0, u1;
+    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
+    double comps[VBL_MAX_MEDIA];
+    vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    for (size_t j = 0; j < s->photons.vpl_count; ++j) {
+        const vbl_vpl* p = &s->photons.vpls[j];
+        if (M >= 0 && p->bounce + 1 > M) continue;
+        double pdf = 0.0;
+        double u = vbl_equiangular_sample(o, d, u0, u1, p->position, vbl_rng_uniform(rng), &pdf);
+        if (!(pdf > 0.0)) continue;
+        vbl_vec3 xu = vbl_v3_madd(o, d, u);
+        vbl_vec3 to = vbl_v3_sub(xu, p->position);
+        double w2 = vbl_v3_dot(to, to);
+        if (!(w2 > 0.0)) continue;
+        double w = sqrt(w2);
+        vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VPL -> x_u */
+        double sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps);
+        if (!(sigma_t > 0.0)) continue;
+        double Tc = vbl_transmittance_cache_eval(&cache, u);
+        if (!(Tc > 0.0)) continue;
+        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps, -vbl_v3_dot(omega, d));
+        vbl_vec3 iv = vbl_vpl_intensity(scene, p, vbl_v3_dot(p->incident, omega));
+        vbl_vec3 f = vbl_v3_mul(ku, iv);
+        if (!(vbl_v3_max_component(f) > 0.0)) continue;
+        double Tw = vbl_ctx_transmittance(ctx, ts, p->position, omega, w, rng);
+        if (!(Tw > 0.0)) continue;
+        double geom = 1.0 / (clamp2 > w2 ? clamp2 : w2);
+        acc = vbl_v3_madd(acc, f, Tc * Tw * geom / pdf);
+    }
+    out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
+}
+
+const vbl_estimator vbl_estimator_vpl = {"vpl", 1, vbl_vpl_pass_begin, vbl_vpl_camera_sample, vbl_vpl_pass_end};

@@ -1,0 +1,33 @@
+/* Virtual point lights in media (VRL paper eq. 4, integrated along the camera ray by eq. 2).
+ *
+ * Per pass: photon tracing (photon_trace.h) stores the scattering vertices as VPLs. Per camera
+ * sample, with [u0, u1] the camera ray's overlap with the media:
+ *   emission        quad/environment lights seen directly, attenuated (light_emission.h);
+ *   volume_direct   the shared single-scattering estimator (single_scatter.h), as pt;
+ *   volume_from_volume
+ *       sum over VPLs j of  T_c(u) sigma_s(u) f(theta_u) I_j(theta_j) T(x_u, x_j) / (w^2 pdf(u)),
+ *       u equiangular toward the VPL (pdf(u) proportional to 1/w^2 on [u0, u1]); T_c from one
+ *       cached transmittance per camera ray, T(x_u, x_j) one ctx->tracking estimate;
+ *       I_j = Phi_j sum_i fraction_i albedo_i HG_i(cos theta_j), the VPL's intensity.
+ * Unbiased unless clamping is enabled: clamp_distance > 0 replaces 1/w^2 by
+ * 1/max(w^2, clamp_distance^2) (biased, darker; removes the P2L singularity's fireflies). */
+#ifndef VBL_TRANSPORT_VPL_H
+#define VBL_TRANSPORT_VPL_H
+
+#include "transport/estimator.h"
+
+typedef struct vbl_vpl_settings {
+    double clamp_distance; /* world units; 0: no clamping (default, unbiased) */
+} vbl_vpl_settings;
+
+#define VBL_VPL_SETTINGS_DEFAULT {0.0}
+
+extern const vbl_estimator vbl_estimator_vpl;
+
+/* The estimator's pieces with explicit settings (tests and benchmarks build variants). */
+vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store);
+void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
+void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store);
+
+#endif

@@ -1,0 +1,167 @@
+/* Virtual ray lights along camera rays (vrl.h). */
+#include "transport/vrl.h"
+
+#include <stdlib.h>
+
+#include "core/error.h"
+#include "sampling/vrl_pair.h"
+#include "scene/media.h"
+#include "transport/light_emission.h"
+#include "transport/photon_trace.h"
+#include "transport/single_scatter.h"
+#include "volume/transmittance_cache.h"
+
+typedef struct vbl_vrl_store {
+    vbl_vrl_settings settings;
+    vbl_photon_store photons;
+    double g_camera;        /* HG g used by the sampler at camera points */
+    double rr_distance;     /* world units; 0: no pruning */
+    vbl_tracking_settings connect;
+} vbl_vrl_store;
+
+double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb)
+{
+    /* closest points of two segments (clamped line-line solution, unit directions) */
+    vbl_vec3 r = vbl_v3_sub(p0, q0);
+    double ab = vbl_v3_dot(a, b), c = vbl_v3_dot(a, r), f = vbl_v3_dot(b, r);
+    double denom = 1.0 - ab * ab;
+    double s = denom > 1e-12 ? vbl_clamp((ab * f - c) / denom, 0.0, la) : 0.0;
+    double t = ab * s + f;
+    if (t < 0.0) {
+        t = 0.0;
+        s = vbl_clamp(-c, 0.0, la);
+    } else if (t > lb) {
+        t = lb;
+        s = vbl_clamp(ab * lb - c, 0.0, la);
+    }
+    return vbl_v3_length(vbl_v3_sub(vbl_v3_madd(p0, a, s), vbl_v3_madd(q0, b, t)));
+}
+
+vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store)
+{
+    *store = NULL;
+    const vbl_scene* scene = ctx->scene;
+    if (settings->samples < 1)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl samples = %d must be >= 1", scene->path,
+                         settings->samples);
+    if (settings->rr_radius > 0.0 && !(settings->rr_min_probability > 0.0 && settings->rr_min_probability <= 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl rr_min_probability = %g is outside (0, 1]",
+                         scene->path, settings->rr_min_probability);
+    vbl_vrl_store* s = calloc(1, sizeof *s);
+    if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vrl store)", scene->path);
+    s->settings = *settings;
+    double w = 0.0, g = 0.0;
+    for (int i = 0; i < scene->media_count; ++i) {
+        const vbl_medium* m = &scene->media[i];
+        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
+        w += wi;
+        g += wi * m->g;
+    }
+    s->g_camera = w > 0.0 ? g / w : 0.0;
+    vbl_vec3 center;
+    double radius = 0.0;
+    if (settings->rr_radius > 0.0 && vbl_media_bounding_sphere(scene, &center, &radius))
+        s->rr_distance = settings->rr_radius * radius;
+    s->connect = ctx->tracking;
+    if (settings->connect_marching) {
+        s->connect.estimator = VBL_TRANSMITTANCE_RAY_MARCHING;
+        s->connect.march_step = settings->march_step;
+    }
+    vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+    if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
+    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    if (r) {
+        free(s);
+        return r;
+    }
+    *store = s;
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_vrl_pass_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings settings = VBL_VRL_SETTINGS_DEFAULT;
+    return vbl_vrl_pass_begin_with(ctx, &settings, store);
+}
+
+void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store)
+{
+    (void)ctx;
+    vbl_vrl_store* s = store;
+    if (!s) return;
+    vbl_photon_store_free(&s->photons);
+    free(s);
+}
+
+/* One estimate of T between two points (the connecting segment), clipped to the media. */
+static double vbl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
+                                        vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng)
+{
+    double t0, t1;
+    if (!vbl_extinction_ray_bounds(ctx->extinction, a, dir, 0.0, len, &t0, &t1) || !(t1 > t0)) return 1.0;
+    return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, a, dir, t0, t1, settings, rng);
+}
+
+void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_vrl_store* s = store;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_vec3 o = sample->origin, d = sample->direction;
+    const int M = ctx->options.max_bounces;
+    vbl_add_visible_emission(ctx, ts, o, d, rng, out);
+    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (!s || s->photons.vrl_count == 0) return;
+
+    vbl_transmittance_cache cache;
+    double u0, u1;
+    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    const int S = s->settings.samples;
+    const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
+    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+        const vbl_vrl* l = &s->photons.vrls[j];
+        if (M >= 0 && l->bounce + 2 > M) continue;
+        double weight = 1.0 / S;
+        if (s->rr_distance > 0.0) {
+            double h = vbl_segment_distance(cam_start, d, u1 - u0, l->origin, l->direction, l->length);
+            double q = h > s->rr_distance ? s->rr_distance / h : 1.0;
+            if (q < s->settings.rr_min_probability) q = s->settings.rr_min_probability;
+            if (q < 1.0) {
+                if (vbl_rng_uniform(rng) >= q) continue;
+                weight /= q;
+            }
+        }
+        vbl_vrl_pair pair;
+        if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g))
+            continue;
+        for (int k = 0; k < S; ++k) {
+            double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+            vbl_vrl_pair_sample ps;
+            if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
+            vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
+            vbl_vec3 to = vbl_v3_sub(xu, xv);
+            double w2 = vbl_v3_dot(to, to);
+            if (!(w2 > 0.0)) continue;
+            double w = sqrt(w2);
+            vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VRL point -> camera point */
+            double Tc = vbl_transmittance_cache_eval(&cache, ps.u);
+            if (!(Tc > 0.0)) continue;
+            double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+            if (!(Tl > 0.0)) continue;
+            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
+            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
+            vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
+            vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
+            vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
+            if (!(vbl_v3_max_component(f) > 0.0)) continue;
+            double Tw = vbl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
+            if (!(Tw > 0.0)) continue;
+            acc = vbl_v3_madd(acc, f, Tc * Tl * Tw * weight / (w2 * ps.pdf));
+        }
+    }
+    out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
+}
+
+const vbl_estimator vbl_estimator_vrl = {"vrl", 1, vbl_vrl_pass_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};

@@ -1,0 +1,51 @@
+/* Virtual ray lights (Novak et al. 2012, virtual-ray-lights.txt): media-to-media transport from
+ * photon path segments to whole camera rays, eq. (7):
+ *   L = Phi int_u0^u1 int_0^len sigma_s(u) sigma_s(v) f(theta_u) f(theta_v) T_c(u) T_l(v) T(w)
+ *                                  / w(u,v)^2 dv du
+ * per VRL, estimated with the two-stage product importance sampling of section 4
+ * (sampling/vrl_pair.h: v from the sinh marginal of eqs. 10-13, u given v by the
+ * piecewise-linear fit of the two HG lobes, appendix A; analytic Cauchy for isotropic media).
+ *
+ * Per camera sample:
+ *   emission            quad/environment lights seen directly (light_emission.h);
+ *   volume_direct       the shared single-scattering estimator (single_scatter.h), as pt;
+ *   volume_from_volume  the sum over VRLs of the estimate above (a VRL of bounce k yields light
+ *                       that scattered k + 2 times; only VRLs with k + 2 <= max_bounces count).
+ * Transmittances: T_c from one cache per camera ray (vbl_camera_segment_cache), T_l = 1 for short
+ * VRLs (the random segment length accounts for it) or the VRL's own cache for long VRLs, T(w)
+ * along the connecting segment by one ctx->tracking estimate (ratio tracking by default,
+ * unbiased) or, opt-in, ray marching (biased, cheaper, as the paper suggests).
+ *
+ * Russian-roulette pruning (rr_radius > 0): with h the minimum distance between the camera
+ * segment and the VRL segment and R = rr_radius * (radius of the media's bounding sphere), a VRL
+ * is kept with probability q = clamp(R / h, rr_min_probability, 1) and its estimate divided by q,
+ * so pruning is unbiased; the floor bounds the added variance (the estimate grows at most by
+ * 1 / rr_min_probability). */
+#ifndef VBL_TRANSPORT_VRL_H
+#define VBL_TRANSPORT_VRL_H
+
+#include "transport/estimator.h"
+
+typedef struct vbl_vrl_settings {
+    int samples;               /* (u, v) samples per VRL / camera-ray pair, >= 1 */
+    int long_vrls;             /* 1: VRLs to the media exit with cached transmittance */
+    int connect_marching;      /* 1: ray marching on the connecting segment (biased) */
+    double march_step;         /* ray marching step in world units; <= 0: adaptive */
+    double rr_radius;          /* pruning radius as a fraction of the media's bounding radius; 0: off */
+    double rr_min_probability; /* floor of the survival probability, in (0, 1] */
+} vbl_vrl_settings;
+
+#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1}
+
+extern const vbl_estimator vbl_estimator_vrl;
+
+/* The estimator's pieces with explicit settings (tests and benchmarks build variants). */
+vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store);
+void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
+void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store);
+
+/* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
+double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);
+
+#endif
