@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "volume/volume.h"
 
@@ -307,6 +308,12 @@ static void test_same_data_pair(void** state)
     assert_int_equal(differences, 0);
     assert_true(nonzero > 1000000);
     assert_true(fabs(ia.voxel_size[0] - 0.476) < 1e-3);
+    vbl_grid_description* grids = NULL;
+    size_t count = 0;
+    assert_int_equal(vbl_file_list_grids(a_path, &grids, &count), VBL_SUCCESS);
+    assert_string_equal(grids[0].type, "half float"); /* format 222, half storage, active mask only */
+    assert_string_equal(grids[0].codec, "active mask");
+    vbl_grid_descriptions_free(grids);
     assert_true(ib.voxel_size[0] == 1.0 && ib.index_to_world[0][3] == 0.0);
     assert_true(fabs(ia.index_to_world[0][3] - ib.index_to_world[0][3]) > 1.0);
     vbl_volume_release(a);
@@ -542,6 +549,71 @@ static void test_point_sampler_parity(void** state)
     }
 }
 
+/* NanoVDB versions: a newer minor version loads (same layout, checksum not checked), another major version
+ * is unsupported, a damaged grid of our own version fails its checksum. Patched copies of box.nvdb
+ * (codec NONE: header 16 B, metadata 176 B + name "density\0", then the raw grid) in a temporary folder. */
+static void write_patched(const char* dir, const char* name, long offset, const void* bytes, size_t n, char* out_path)
+{
+    FILE* in = fopen(fixture("box.nvdb"), "rb");
+    assert_non_null(in);
+    static unsigned char data[1 << 22];
+    size_t size = fread(data, 1, sizeof data, in);
+    fclose(in);
+    assert_true(size > 1000 && size < sizeof data);
+    memcpy(data + offset, bytes, n);
+    sprintf(out_path, "%s/%s", dir, name);
+    FILE* out = fopen(out_path, "wb");
+    assert_non_null(out);
+    assert_int_equal(fwrite(data, 1, size, out), size);
+    fclose(out);
+}
+
+static void test_nanovdb_version_skew(void** state)
+{
+    (void)state;
+    char dir[] = "/tmp/vbl_vdb_test_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    const long grid = 16 + 176 + 8, grid_version = grid + 16;
+    FILE* in = fopen(fixture("box.nvdb"), "rb");
+    assert_non_null(in);
+    uint32_t header_version = 0, version = 0;
+    assert_int_equal(fseek(in, 8, SEEK_SET), 0);
+    assert_int_equal(fread(&header_version, 4, 1, in), 1);
+    assert_int_equal(fseek(in, grid_version, SEEK_SET), 0);
+    assert_int_equal(fread(&version, 4, 1, in), 1);
+    fclose(in);
+    assert_int_equal(version, header_version);
+    assert_int_equal(version >> 21, 32);
+    char path[4200];
+    vbl_volume* v = NULL;
+
+    uint32_t newer_minor = version + (1u << 10); /* 32.(minor+1).patch */
+    write_patched(dir, "minor.nvdb", grid_version, &newer_minor, 4, path);
+    assert_int_equal(load(path, NULL, -1, VBL_BAD_VOXELS_REJECT, &v), VBL_SUCCESS);
+    assert_int_equal(info_of(v).active_voxels, 4096);
+    vbl_volume_release(v);
+    remove(path);
+
+    uint32_t other_major = (33u << 21) | (version & ((1u << 21) - 1u));
+    write_patched(dir, "major.nvdb", 8, &other_major, 4, path);
+    assert_failure(load(path, NULL, -1, VBL_BAD_VOXELS_REJECT, &v), VBL_ERROR_UNSUPPORTED, path);
+    remove(path);
+    write_patched(dir, "major_grid.nvdb", grid_version, &other_major, 4, path);
+    assert_failure(load(path, NULL, -1, VBL_BAD_VOXELS_REJECT, &v), VBL_ERROR_UNSUPPORTED, path);
+    remove(path);
+
+    write_patched(dir, "container.nvdb", 0, "NanoVDB1", 8, path);
+    assert_failure(load(path, NULL, -1, VBL_BAD_VOXELS_REJECT, &v), VBL_ERROR_UNSUPPORTED, path);
+    remove(path);
+
+    /* The fixtures carry NanoVDB's partial checksum (grid, tree and root headers): rename the grid. */
+    write_patched(dir, "checksum.nvdb", grid + 40 + 6, "z", 1, path); /* "density" -> "densitz" */
+    assert_failure(load(path, NULL, -1, VBL_BAD_VOXELS_REJECT, &v), VBL_ERROR_CORRUPT_FILE, path);
+    assert_non_null(strstr(vbl_last_error_message(), "checksum"));
+    remove(path);
+    assert_int_equal(rmdir(dir), 0);
+}
+
 /* ---- bad input ------------------------------------------------------------------------------------ */
 
 static void test_bad_inputs(void** state)
@@ -685,6 +757,7 @@ int main(void)
         cmocka_unit_test(test_fixtures),
         cmocka_unit_test(test_rotated_transform),
         cmocka_unit_test(test_point_sampler_parity),
+        cmocka_unit_test(test_nanovdb_version_skew),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_bad_voxels),
         cmocka_unit_test(test_cli_info),

@@ -2,6 +2,7 @@
 // blosc/zip/active-mask codecs) and converts float grids to NanoVDB with nanovdb::openToNanoVDB.
 #include <cstring>
 #include <fstream>
+#include <mutex>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/io/Archive.h>
@@ -20,10 +21,9 @@ namespace {
 
 void initialize_openvdb()
 {
-    // openvdb::initialize() is itself thread-safe and idempotent (a mutex and a flag inside). It must
-    // not be wrapped in std::call_once: the tree-type registration it runs uses std::call_once too,
-    // and nesting the two crashes in libstdc++'s once machinery.
-    openvdb::initialize();
+    // Once per process, from whichever thread loads first (openvdb::initialize is itself guarded too).
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
 }
 
 // Reads the grid descriptors in file order (io::File keeps them in a name-sorted map). This follows
@@ -39,8 +39,10 @@ public:
     };
     std::vector<Item> scan(const std::string& path)
     {
-        std::ifstream is(path, std::ios::in | std::ios::binary);
+        std::ifstream is(path, std::ios::in | std::ios::binary | std::ios::ate);
         if (!is) throw Failure(VBL_ERROR_FILE_NOT_FOUND, "cannot open");
+        const std::streamoff file_size = is.tellg();
+        is.seekg(0);
         readHeader(is);
         setFormatVersion(is);
         setLibraryVersion(is);
@@ -70,6 +72,12 @@ public:
                 item.compression = compression();
                 item.compression_known = true;
             }
+            // A truncated file is caught here, before OpenVDB reads the tree: OpenVDB 10 leaks the node
+            // it was reading when a tree read throws.
+            if (gd.getEndPos() > file_size || gd.getGridPos() > file_size)
+                throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated file: grid '" + openvdb::io::GridDescriptor::nameAsString(item.unique_name) +
+                                                          "' ends at byte " + std::to_string(gd.getEndPos()) + " but the file has " +
+                                                          std::to_string(file_size) + " bytes");
             items.push_back(item);
             gd.seekToEnd(is);
             if (!is) throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated grid descriptor table");
@@ -161,9 +169,9 @@ void describe_tree(const openvdb::GridBase& grid, vbl_vdb_grid_desc& desc)
 std::vector<GridEntry> openvdb_list(const std::string& path, bool describe)
 {
     initialize_openvdb();
+    std::vector<DescriptorScanner::Item> order = DescriptorScanner().scan(path);
     openvdb::io::File file(path);
     file.open(false); // no delayed loading: read now, so damaged files fail here, not later
-    std::vector<DescriptorScanner::Item> order = DescriptorScanner().scan(path);
     if (order.empty()) { // no grid offsets (very old files): io::File's order
         for (auto it = file.beginName(); it != file.endName(); ++it) {
             DescriptorScanner::Item item;

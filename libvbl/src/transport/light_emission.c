@@ -16,13 +16,15 @@ int vbl_media_bounding_sphere(const vbl_scene* scene, vbl_vec3* center, double* 
     int any = 0;
     for (int m = 0; m < scene->media_count; ++m) {
         const vbl_medium* med = &scene->media[m];
-        /* the majorant grid's index box (one voxel of margin for the trilinear support) */
-        const vbl_majorant_grid* mg = &med->volume->majorant;
-        if (mg->dims[0] <= 0 || mg->dims[1] <= 0 || mg->dims[2] <= 0) continue;
+        /* the root's active index box, one voxel of margin for the trilinear support */
+        const vbl_volume* vol = med->volume;
+        pnanovdb_coord_t bmin = pnanovdb_root_get_bbox_min(vol->buf, vol->root);
+        pnanovdb_coord_t bmax = pnanovdb_root_get_bbox_max(vol->buf, vol->root);
+        if (bmin.x > bmax.x || bmin.y > bmax.y || bmin.z > bmax.z) continue;
+        int lo_i[3] = {bmin.x, bmin.y, bmin.z}, hi_i[3] = {bmax.x, bmax.y, bmax.z};
         for (int c = 0; c < 8; ++c) {
             double idx[3];
-            for (int a = 0; a < 3; ++a)
-                idx[a] = (c >> a) & 1 ? mg->origin[a] + (double)mg->dims[a] * mg->block + 1.0 : mg->origin[a] - 1.0;
+            for (int a = 0; a < 3; ++a) idx[a] = (c >> a) & 1 ? hi_i[a] + 1.0 : lo_i[a] - 1.0;
             vbl_vec3 p = vbl_affine_point(&med->volume->index_to_world, vbl_v3(idx[0], idx[1], idx[2]));
             p = vbl_affine_point(&med->volume_to_scene, p);
             if (!(isfinite(p.x) && isfinite(p.y) && isfinite(p.z))) continue;
@@ -47,31 +49,54 @@ static vbl_vec3 vbl_disc_point(vbl_vec3 center, vbl_vec3 axis, double r, double 
     return vbl_v3_add(center, vbl_v3_add(vbl_v3_scale(t, rho * cos(phi)), vbl_v3_scale(b, rho * sin(phi))));
 }
 
+/* The cone point/spot photons are emitted in (uniformly, solid angle 2 pi one_minus): the
+ * narrowest of the whole sphere, the spot's outer cone and the cone subtending the media's
+ * bounding sphere (when the light is outside it). Every direction that carries light into the
+ * media lies in each of them, so the estimate stays unbiased. */
+static void vbl_emission_cone(const vbl_light* light, vbl_vec3 center, double radius, vbl_vec3* axis, double* one_minus)
+{
+    *axis = vbl_v3(0.0, 0.0, 1.0);
+    *one_minus = 2.0;
+    if (light->type == VBL_LIGHT_SPOT) {
+        *axis = light->direction;
+        *one_minus = 1.0 - light->cos_outer;
+    }
+    vbl_vec3 to = vbl_v3_sub(center, light->position);
+    double dist = vbl_v3_length(to);
+    if (radius > 0.0 && dist > radius * 1.0001) {
+        double s = radius / dist;
+        double om = s * s / (1.0 + sqrt(fmax(0.0, 1.0 - s * s))); /* 1 - cos(alpha), cancellation-free */
+        if (om < *one_minus) {
+            *one_minus = om;
+            *axis = vbl_v3_scale(to, 1.0 / dist);
+        }
+    }
+}
+
 int vbl_light_sample_emission(const vbl_light* light, vbl_vec3 sphere_center, double sphere_radius,
                               const double u[4], vbl_emission_sample* out)
 {
     switch (light->type) {
-    case VBL_LIGHT_POINT: {
-        double pdf = 0.0;
-        out->origin = light->position;
-        out->direction = vbl_sample_uniform_sphere(u[0], u[1], &pdf);
-        out->flux = vbl_v3_scale(light->color, 4.0 * VBL_PI);
-        return 1;
-    }
+    case VBL_LIGHT_POINT:
     case VBL_LIGHT_SPOT: {
-        double one_minus = 1.0 - light->cos_outer; /* solid angle of the outer cone / 2 pi */
+        vbl_vec3 axis;
+        double one_minus;
+        vbl_emission_cone(light, sphere_center, sphere_radius, &axis, &one_minus);
         if (!(one_minus > 0.0)) return 0;
         double cos_t = 1.0 - u[0] * one_minus;
         double sin_t = sqrt(fmax(0.0, 1.0 - cos_t * cos_t));
         double phi = 2.0 * VBL_PI * u[1];
         vbl_vec3 t, b;
-        vbl_v3_basis(light->direction, &t, &b);
+        vbl_v3_basis(axis, &t, &b);
         out->origin = light->position;
-        out->direction = vbl_v3_normalize(vbl_v3_add(vbl_v3_scale(light->direction, cos_t),
+        out->direction = vbl_v3_normalize(vbl_v3_add(vbl_v3_scale(axis, cos_t),
                                                      vbl_v3_add(vbl_v3_scale(t, sin_t * cos(phi)),
                                                                 vbl_v3_scale(b, sin_t * sin(phi)))));
-        double falloff = vbl_spot_falloff(light, cos_t);
-        if (!(falloff > 0.0)) return 0;
+        double falloff = 1.0;
+        if (light->type == VBL_LIGHT_SPOT) {
+            falloff = vbl_spot_falloff(light, vbl_v3_dot(out->direction, light->direction));
+            if (!(falloff > 0.0)) return 0;
+        }
         out->flux = vbl_v3_scale(light->color, 2.0 * VBL_PI * one_minus * falloff);
         return 1;
     }
@@ -112,12 +137,17 @@ int vbl_light_sample_emission(const vbl_light* light, vbl_vec3 sphere_center, do
     return 0;
 }
 
-double vbl_light_power(const vbl_light* light, double sphere_radius)
+double vbl_light_power(const vbl_light* light, vbl_vec3 center, double sphere_radius)
 {
     double c = vbl_mean3(light->color);
     switch (light->type) {
-    case VBL_LIGHT_POINT: return c * 4.0 * VBL_PI;
-    case VBL_LIGHT_SPOT: return c * 2.0 * VBL_PI * fmax(0.0, 1.0 - light->cos_outer);
+    case VBL_LIGHT_POINT:
+    case VBL_LIGHT_SPOT: {
+        vbl_vec3 axis;
+        double one_minus;
+        vbl_emission_cone(light, center, sphere_radius, &axis, &one_minus);
+        return c * 2.0 * VBL_PI * fmax(0.0, one_minus);
+    }
     case VBL_LIGHT_DISTANT: return c * VBL_PI * sphere_radius * sphere_radius;
     case VBL_LIGHT_QUAD: return c * light->area * VBL_PI;
     case VBL_LIGHT_ENVIRONMENT: return c * 4.0 * VBL_PI * VBL_PI * sphere_radius * sphere_radius;

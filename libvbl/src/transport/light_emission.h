@@ -5,9 +5,10 @@
  * Emission sampling, per light (u: four uniforms), returning the flux weight
  * Phi = L_e * |cos| / pdf(origin, direction) of the sample (divide by the number of paths and the
  * light-selection probability for a photon's power):
- *   point:       direction uniform on the sphere, pdf 1/(4 pi):            Phi = 4 pi I
- *   spot:        direction uniform in the outer cone, pdf 1/(2 pi (1-cos_o)):
- *                                                                  Phi = 2 pi (1-cos_o) I falloff
+ *   point, spot: direction uniform in a cone of solid angle 2 pi (1 - cos a), the narrowest of
+ *                the whole sphere, the spot's outer cone and the cone subtending the media's
+ *                bounding sphere (light outside it): Phi = 2 pi (1 - cos a) I falloff
+ *                (directions outside that cone carry no light into the media)
  *   distant:     origin uniform on a disc of radius R (the media bounding sphere) perpendicular
  *                to the travel direction, upstream of the sphere, pdf 1/(pi R^2): Phi = E pi R^2
  *   quad:        origin uniform on the quad (pdf 1/A), cosine-weighted direction about its
@@ -37,7 +38,7 @@ int vbl_light_sample_emission(const vbl_light* light, vbl_vec3 sphere_center, do
 
 /* Total emitted flux reaching the bounding sphere's disc, as a scalar (mean of RGB): the expected
  * value of mean(flux) over emission samples. Used to select lights proportionally to power. */
-double vbl_light_power(const vbl_light* light, double sphere_radius);
+double vbl_light_power(const vbl_light* light, vbl_vec3 sphere_center, double sphere_radius);
 
 /* Adds quad/environment light seen directly along the camera ray, attenuated by the media
  * (one transmittance estimate per visible light), to out->L[VBL_CLASS_EMISSION]. */

@@ -206,7 +206,7 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
     if (!vbl_media_bounding_sphere(scene, &sh.center, &sh.radius)) return VBL_SUCCESS;
     sh.light_cdf[0] = 0.0;
     for (int i = 0; i < scene->light_count; ++i) {
-        double p = vbl_light_power(&scene->lights[i], sh.radius);
+        double p = vbl_light_power(&scene->lights[i], sh.center, sh.radius);
         sh.light_cdf[i + 1] = sh.light_cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
     }
     sh.power_total = sh.light_cdf[scene->light_count];

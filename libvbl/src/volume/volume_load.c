@@ -291,13 +291,14 @@ vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char*
     vbl_scan_root(v, &scan);
     uint64_t bad = scan.bad_active + scan.bad_inactive;
     if (bad && options->bad_voxels != VBL_BAD_VOXELS_SANITIZE) {
-        vbl_volume_destroy(v);
-        return vbl_error(VBL_ERROR_BAD_VOXELS,
-                         "%s: grid '%s' has %llu bad values (%llu NaN, %llu Inf, %llu negative; %llu active, %llu inactive); "
-                         "load with the sanitize policy (vbl --sanitize) to set them to 0",
-                         path, info->grid_name, (unsigned long long)bad, (unsigned long long)scan.bad_nan,
-                         (unsigned long long)scan.bad_inf, (unsigned long long)scan.bad_negative,
-                         (unsigned long long)scan.bad_active, (unsigned long long)scan.bad_inactive);
+        result = vbl_error(VBL_ERROR_BAD_VOXELS,
+                           "%s: grid '%s' has %llu bad values (%llu NaN, %llu Inf, %llu negative; %llu active, %llu inactive); "
+                           "load with the sanitize policy (vbl --sanitize) to set them to 0",
+                           path, info->grid_name, (unsigned long long)bad, (unsigned long long)scan.bad_nan,
+                           (unsigned long long)scan.bad_inf, (unsigned long long)scan.bad_negative,
+                           (unsigned long long)scan.bad_active, (unsigned long long)scan.bad_inactive);
+        vbl_volume_destroy(v); /* after formatting: the message reads info->grid_name */
+        return result;
     }
     info->sanitized_voxels = bad;
     info->active_voxels = scan.active_voxels;
