@@ -16,6 +16,7 @@
 #include <math.h>
 
 #include <Imath/half.h>
+#include <omp.h>
 
 #include "exr_internal.h"
 #include "output_test_util.h"
@@ -376,6 +377,51 @@ static void test_old_options_size(void** s)
     out_remove_dir(dir);
 }
 
+static unsigned char* read_all(const char* path, long* size)
+{
+    FILE* f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    *size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    unsigned char* data = malloc((size_t)*size);
+    assert_int_equal(fread(data, 1, (size_t)*size, f), (size_t)*size);
+    fclose(f);
+    return data;
+}
+
+/* Chunks are compressed in parallel: the file's bytes do not depend on the thread count. */
+static void test_same_bytes_at_any_thread_count(void** s)
+{
+    (void)s;
+    const int w = 150, h = 97;
+    float* px = make_pixels(0, 4, w, h);
+    vbl_exr_layer layer = {"", 4, NULL, px, 1};
+    char* dir = out_make_temp_dir();
+    for (int tiled = 0; tiled < 2; ++tiled)
+        for (int comp = VBL_EXR_COMPRESSION_NONE; comp <= VBL_EXR_COMPRESSION_PIZ; ++comp) {
+            vbl_exr_write_options opt = VBL_EXR_WRITE_OPTIONS_DEFAULT;
+            opt.compression = (vbl_exr_compression)comp;
+            opt.tiled = tiled;
+            opt.tile_size = 16;
+            int saved = omp_get_max_threads();
+            omp_set_num_threads(1);
+            assert_int_equal(vbl_exr_write(out_path(dir, "one.exr"), w, h, &layer, 1, &opt), VBL_SUCCESS);
+            omp_set_num_threads(3);
+            assert_int_equal(vbl_exr_write(out_path(dir, "three.exr"), w, h, &layer, 1, &opt), VBL_SUCCESS);
+            omp_set_num_threads(saved);
+            long n1, n3;
+            unsigned char* a = read_all(out_path(dir, "one.exr"), &n1);
+            unsigned char* b = read_all(out_path(dir, "three.exr"), &n3);
+            assert_int_equal(n1, n3);
+            assert_memory_equal(a, b, (size_t)n1);
+            free(a);
+            free(b);
+        }
+    out_remove_dir(dir);
+    free(px);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -394,6 +440,7 @@ int main(void)
         cmocka_unit_test(test_unwritable_paths),
         cmocka_unit_test(test_invalid_input),
         cmocka_unit_test(test_old_options_size),
+        cmocka_unit_test(test_same_bytes_at_any_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

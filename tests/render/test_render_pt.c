@@ -452,17 +452,22 @@ static void test_extremes(void** state)
     }
 }
 
-int main(void)
+/* `test_render_pt` runs the quick group; `test_render_pt reference` the quadrature comparisons
+ * (labelled slow: they run in the optimized build only). */
+int main(int argc, char** argv)
 {
-    const struct CMUnitTest tests[] = {
+    const struct CMUnitTest quick[] = {
         cmocka_unit_test(test_furnace_outside),
         cmocka_unit_test(test_furnace_inside),
-        cmocka_unit_test(test_single_scatter_distant),
-        cmocka_unit_test(test_single_scatter_point),
         cmocka_unit_test(test_layers_sum_and_determinism),
         cmocka_unit_test(test_cancel_and_time_limit),
         cmocka_unit_test(test_dense_medium),
         cmocka_unit_test(test_extremes),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest reference[] = {
+        cmocka_unit_test(test_single_scatter_distant),
+        cmocka_unit_test(test_single_scatter_point),
+    };
+    if (argc > 1 && !strcmp(argv[1], "reference")) return cmocka_run_group_tests(reference, NULL, NULL);
+    return cmocka_run_group_tests(quick, NULL, NULL);
 }

@@ -14,6 +14,7 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <pthread.h>
 
 #include "volume/volume.h"
 
@@ -473,6 +474,32 @@ static void test_fixtures(void** state)
     vbl_grid_descriptions_free(grids);
 }
 
+/* Tiles at the lower and upper internal levels count with their full volume (as in vdb_print). */
+static void test_tiles(void** state)
+{
+    (void)state;
+    const char* path = fixture("tiles.vdb");
+    tool_grid tool[4];
+    if (run_vdb_print(path, tool, 4) == 2) {
+        assert_int_equal(tool[1].voxels, 128 * 128 * 128 + 512 + 1); /* vdb_print lists "bad" first */
+    }
+    vbl_volume_info info = load_info("tiles.vdb", NULL, -1);
+    assert_int_equal(info.active_voxels, 128 * 128 * 128 + 512 + 1);
+    assert_bbox(&info, 0, 0, 0, 135, 127, 127);
+    assert_true(info.value_min == 0.25 && info.value_max == 1.0);
+    assert_true(fabs(info.value_mean - (0.25 * 2097152 + 0.5 * 512 + 1.0) / 2097665.0) < 1e-12);
+    vbl_volume* v = NULL;
+    assert_failure(load(path, "bad", -1, VBL_BAD_VOXELS_REJECT, &v), VBL_ERROR_BAD_VOXELS, path);
+    assert_non_null(strstr(vbl_last_error_message(), "1 bad values (0 NaN, 0 Inf, 1 negative; 1 active"));
+    assert_int_equal(load(path, "bad", -1, VBL_BAD_VOXELS_SANITIZE, &v), VBL_SUCCESS);
+    info = info_of(v);
+    assert_int_equal(info.sanitized_voxels, 1);
+    assert_int_equal(info.active_voxels, 513);
+    assert_true(info.value_min == 0.0 && info.value_max == 0.5);
+    assert_true(value_at(v, 3, 3, 3) == 0.0f);
+    vbl_volume_release(v);
+}
+
 /* The general affine fixture: index_to_world = R(axis (1,1,0)/sqrt2, 30 deg) * diag(0.1,0.2,0.3) + t. */
 static void test_rotated_transform(void** state)
 {
@@ -671,6 +698,45 @@ static void test_bad_voxels(void** state)
     vbl_volume_release(v);
 }
 
+/* Loads from several threads at once: same results as one thread, no crash (ASan/UBSan build too). */
+static void* load_thread(void* arg)
+{
+    uint64_t* voxels = arg;
+    const char* files[2] = {"sphere.vdb", "multi.nvdb"};
+    for (int r = 0; r < 3; ++r)
+        for (int f = 0; f < 2; ++f) {
+            char path[4096];
+            const char* dir = getenv("VBL_FIXTURE_DIR");
+            snprintf(path, sizeof path, "%s/%s", dir ? dir : "tests/fixtures", files[f]);
+            vbl_volume_load_options o = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+            vbl_volume* v = NULL;
+            if (vbl_volume_load(path, &o, &v) != VBL_SUCCESS) return NULL;
+            vbl_volume_info info;
+            memset(&info, 0, sizeof info);
+            info.size = sizeof info;
+            vbl_volume_get_info(v, &info);
+            voxels[f] = info.active_voxels;
+            vbl_volume_release(v);
+        }
+    return arg;
+}
+
+static void test_concurrent_loads(void** state)
+{
+    (void)state;
+    pthread_t threads[4];
+    uint64_t voxels[4][2];
+    memset(voxels, 0, sizeof voxels);
+    for (int t = 0; t < 4; ++t) assert_int_equal(pthread_create(&threads[t], NULL, load_thread, voxels[t]), 0);
+    for (int t = 0; t < 4; ++t) {
+        void* ok = NULL;
+        assert_int_equal(pthread_join(threads[t], &ok), 0);
+        assert_non_null(ok);
+        assert_int_equal(voxels[t][0], 17071);
+        assert_int_equal(voxels[t][1], 4096);
+    }
+}
+
 /* ---- vbl info ------------------------------------------------------------------------------------- */
 
 static int run_cli(const char* args, char* out, size_t out_size)
@@ -755,11 +821,13 @@ int main(void)
         cmocka_unit_test(test_duplicate_names),
         cmocka_unit_test(test_empty_and_non_float),
         cmocka_unit_test(test_fixtures),
+        cmocka_unit_test(test_tiles),
         cmocka_unit_test(test_rotated_transform),
         cmocka_unit_test(test_point_sampler_parity),
         cmocka_unit_test(test_nanovdb_version_skew),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_bad_voxels),
+        cmocka_unit_test(test_concurrent_loads),
         cmocka_unit_test(test_cli_info),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -8,6 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "exr_internal.h"
 
@@ -135,13 +138,44 @@ static void vbl_exr_free_channels(vbl_exr_out_channel* channels, int count)
     free(channels);
 }
 
-/* Encodes and writes one chunk (scanline block or tile) described by `cinfo`. */
-static exr_result_t vbl_exr_write_chunk(exr_context_t ctxt, int width, int x0, int y0, const exr_chunk_info_t* cinfo,
-                                        exr_encode_pipeline_t* encoder, int* initialized,
-                                        const vbl_exr_out_channel* channels, int channel_count)
+/* One chunk (scanline block or tile): where its pixels start and, once encoded, its bytes. */
+typedef struct vbl_exr_chunk {
+    exr_chunk_info_t info;
+    int x0, y0;            /* first pixel (OpenEXRCore 3.1 gives tile indices in info.start_x/y) */
+    int tx, ty;            /* tile indices (tiled parts) */
+    void* data;
+    uint64_t size;
+    exr_result_t rv;
+} vbl_exr_chunk;
+
+/* Pipeline write step replaced by a copy: chunks are compressed in parallel, written in order. */
+static exr_result_t vbl_exr_capture_chunk(exr_encode_pipeline_t* encoder)
 {
-    exr_result_t rv = *initialized ? exr_encoding_update(ctxt, 0, cinfo, encoder)
-                                   : exr_encoding_initialize(ctxt, 0, cinfo, encoder);
+    vbl_exr_chunk* chunk = encoder->encoding_user_data;
+    const void* src = encoder->compressed_buffer ? encoder->compressed_buffer : encoder->packed_buffer;
+    uint64_t size = encoder->compressed_buffer ? encoder->compressed_bytes : encoder->packed_bytes;
+    chunk->data = malloc(size ? (size_t)size : 1);
+    if (!chunk->data) return EXR_ERR_OUT_OF_MEMORY;
+    if (size) memcpy(chunk->data, src, (size_t)size);
+    chunk->size = size;
+    return EXR_ERR_SUCCESS;
+}
+
+/* The default "yield" refuses to encode a chunk before its predecessor is written; here chunks
+ * are only captured, and vbl_exr_write_chunks writes them in order. */
+static exr_result_t vbl_exr_chunks_in_order(exr_encode_pipeline_t* encoder)
+{
+    (void)encoder;
+    return EXR_ERR_SUCCESS;
+}
+
+/* Encodes one chunk with `encoder` (initialised on first use) into chunk->data. */
+static exr_result_t vbl_exr_encode_chunk(exr_const_context_t ctxt, int width, vbl_exr_chunk* chunk,
+                                         exr_encode_pipeline_t* encoder, int* initialized,
+                                         const vbl_exr_out_channel* channels, int channel_count)
+{
+    exr_result_t rv = *initialized ? exr_encoding_update(ctxt, 0, &chunk->info, encoder)
+                                   : exr_encoding_initialize(ctxt, 0, &chunk->info, encoder);
     if (rv != EXR_ERR_SUCCESS) return rv;
     for (int c = 0; c < encoder->channel_count; ++c) {
         exr_coding_channel_info_t* info = &encoder->channels[c];
@@ -154,14 +188,106 @@ static exr_result_t vbl_exr_write_chunk(exr_context_t ctxt, int width, int x0, i
         info->user_data_type = (uint16_t)(ch->half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
         info->user_pixel_stride = bpe;
         info->user_line_stride = width * bpe;
-        info->encode_from_ptr = (const uint8_t*)ch->plane + ((size_t)y0 * (size_t)width + (size_t)x0) * (size_t)bpe;
+        info->encode_from_ptr =
+            (const uint8_t*)ch->plane + ((size_t)chunk->y0 * (size_t)width + (size_t)chunk->x0) * (size_t)bpe;
     }
     if (!*initialized) {
         rv = exr_encoding_choose_default_routines(ctxt, 0, encoder);
         if (rv != EXR_ERR_SUCCESS) return rv;
+        encoder->write_fn = vbl_exr_capture_chunk;
+        encoder->yield_until_ready_fn = vbl_exr_chunks_in_order;
         *initialized = 1;
     }
+    encoder->encoding_user_data = chunk;
     return exr_encoding_run(ctxt, 0, encoder);
+}
+
+/* Compresses all chunks in batches, in parallel (OpenMP), and writes each batch in file order. */
+static exr_result_t vbl_exr_write_chunks(exr_context_t ctxt, int width, int height, int tiled, int tile,
+                                         exr_compression_t compression, const vbl_exr_out_channel* channels,
+                                         int channel_count)
+{
+    uint64_t bytes_per_pixel = 0;
+    for (int c = 0; c < channel_count; ++c) bytes_per_pixel += channels[c].half ? 2u : 4u;
+    int32_t lines = 1;
+    exr_result_t rv = tiled ? EXR_ERR_SUCCESS : exr_get_scanlines_per_chunk(ctxt, 0, &lines);
+    if (rv != EXR_ERR_SUCCESS) return rv;
+    const int tiles_x = (width + tile - 1) / tile;
+    const int count = tiled ? tiles_x * ((height + tile - 1) / tile) : (height + lines - 1) / lines;
+    int threads = 1;
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+    if (threads < 1) threads = 1;
+#endif
+    const int batch = threads * 4;
+    vbl_exr_chunk* chunks = calloc((size_t)batch, sizeof *chunks);
+    exr_encode_pipeline_t* encoders = calloc((size_t)threads, sizeof *encoders);
+    int* ready = calloc((size_t)threads, sizeof *ready);
+    if (!chunks || !encoders || !ready) rv = EXR_ERR_OUT_OF_MEMORY;
+    for (int first = 0; first < count && rv == EXR_ERR_SUCCESS; first += batch) {
+        const int n = count - first < batch ? count - first : batch;
+        /* Chunk descriptions are built here: exr_write_*_chunk_info insists on being called in
+         * file order, each after the previous chunk was written (checked against it below). */
+        for (int i = 0; i < n; ++i) {
+            vbl_exr_chunk* c = &chunks[i];
+            memset(c, 0, sizeof *c);
+            int index = first + i;
+            if (tiled) {
+                c->tx = index % tiles_x;
+                c->ty = index / tiles_x;
+                c->x0 = c->tx * tile;
+                c->y0 = c->ty * tile;
+                c->info.start_x = c->tx; /* tile indices, as OpenEXRCore 3.1 fills them */
+                c->info.start_y = c->ty;
+                c->info.width = width - c->x0 < tile ? width - c->x0 : tile;
+                c->info.height = height - c->y0 < tile ? height - c->y0 : tile;
+                c->info.type = EXR_STORAGE_TILED;
+            } else {
+                c->y0 = index * lines;
+                c->info.start_y = c->y0;
+                c->info.width = width;
+                c->info.height = height - c->y0 < lines ? height - c->y0 : lines;
+                c->info.type = EXR_STORAGE_SCANLINE;
+            }
+            c->info.idx = index;
+            c->info.compression = (uint8_t)compression;
+            c->info.unpacked_size = (uint64_t)c->info.width * (uint64_t)c->info.height * bytes_per_pixel;
+        }
+        if (rv != EXR_ERR_SUCCESS) break;
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+#endif
+        for (int i = 0; i < n; ++i) {
+            int t = 0;
+#ifdef _OPENMP
+            t = omp_get_thread_num();
+#endif
+            chunks[i].rv = vbl_exr_encode_chunk(ctxt, width, &chunks[i], &encoders[t], &ready[t], channels, channel_count);
+        }
+        for (int i = 0; i < n; ++i) {
+            vbl_exr_chunk* c = &chunks[i];
+            exr_chunk_info_t check;
+            if (rv == EXR_ERR_SUCCESS) rv = c->rv;
+            /* Core tracks the output order in *_chunk_info; it must precede each chunk's write. */
+            if (rv == EXR_ERR_SUCCESS)
+                rv = tiled ? exr_write_tile_chunk_info(ctxt, 0, c->tx, c->ty, 0, 0, &check)
+                           : exr_write_scanline_chunk_info(ctxt, 0, c->y0, &check);
+            if (rv == EXR_ERR_SUCCESS && (check.width != c->info.width || check.height != c->info.height ||
+                                          check.unpacked_size != c->info.unpacked_size))
+                rv = EXR_ERR_INVALID_ARGUMENT;
+            if (rv == EXR_ERR_SUCCESS)
+                rv = tiled ? exr_write_tile_chunk(ctxt, 0, c->tx, c->ty, 0, 0, c->data, c->size)
+                           : exr_write_scanline_chunk(ctxt, 0, c->y0, c->data, c->size);
+            free(c->data);
+            c->data = NULL;
+        }
+    }
+    for (int t = 0; encoders && ready && t < threads; ++t)
+        if (ready[t] || encoders[t].channels) exr_encoding_destroy(ctxt, &encoders[t]);
+    free(chunks);
+    free(encoders);
+    free(ready);
+    return rv;
 }
 
 static exr_result_t vbl_exr_set_attribute(exr_context_t ctxt, const vbl_exr_attribute* a)
@@ -260,8 +386,6 @@ vbl_result vbl_exr_write(const char* path, int width, int height, const vbl_exr_
     init.write_fn = vbl_exr_write_fn;
     if (opt.dwa_quality > 0.0f) init.dwa_quality = opt.dwa_quality;
     exr_context_t ctxt = NULL;
-    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
-    int encoder_ready = 0;
     const char* step = "creating the file";
     int part = 0;
     exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
@@ -285,25 +409,8 @@ vbl_result vbl_exr_write(const char* path, int width, int height, const vbl_exr_
     for (int i = 0; i < opt.attribute_count && rv == EXR_ERR_SUCCESS; ++i) rv = vbl_exr_set_attribute(ctxt, &opt.attributes[i]);
     if (rv == EXR_ERR_SUCCESS) step = "writing the header", rv = exr_write_header(ctxt);
     if (rv == EXR_ERR_SUCCESS) step = "writing pixels";
-    if (rv == EXR_ERR_SUCCESS && !opt.tiled) {
-        int32_t lines = 1;
-        rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
-        for (int y = 0; y < height && rv == EXR_ERR_SUCCESS; y += lines) {
-            exr_chunk_info_t cinfo;
-            rv = exr_write_scanline_chunk_info(ctxt, 0, y, &cinfo);
-            if (rv == EXR_ERR_SUCCESS) rv = vbl_exr_write_chunk(ctxt, width, 0, y, &cinfo, &encoder, &encoder_ready, channels, channel_count);
-        }
-    } else if (rv == EXR_ERR_SUCCESS) {
-        int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
-        for (int ty = 0; ty < tiles_y && rv == EXR_ERR_SUCCESS; ++ty)
-            for (int tx = 0; tx < tiles_x && rv == EXR_ERR_SUCCESS; ++tx) {
-                exr_chunk_info_t cinfo;
-                rv = exr_write_tile_chunk_info(ctxt, 0, tx, ty, 0, 0, &cinfo);
-                /* OpenEXRCore 3.1 gives tile indices, not pixels, in cinfo.start_x/y. */
-                if (rv == EXR_ERR_SUCCESS) rv = vbl_exr_write_chunk(ctxt, width, tx * tile, ty * tile, &cinfo, &encoder, &encoder_ready, channels, channel_count);
-            }
-    }
-    if (encoder_ready || encoder.channels) exr_encoding_destroy(ctxt, &encoder);
+    if (rv == EXR_ERR_SUCCESS) rv = vbl_exr_write_chunks(ctxt, width, height, opt.tiled, tile, vbl_exr_core_compression(opt.compression),
+                                  channels, channel_count);
     if (ctxt) {
         if (rv == EXR_ERR_SUCCESS) step = "finishing the file";
         exr_result_t frv = exr_finish(&ctxt);
