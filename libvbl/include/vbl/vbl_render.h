@@ -94,11 +94,23 @@ typedef struct vbl_render_options {
     vbl_mis_heuristic mis;
     vbl_render_pass_callback callback; /* may be NULL */
     void* callback_user_data;
+    /* ---- estimator settings (scene file: render.vrl / render.vpl; docs/readme/vrl.md). A zero
+     * in vrl_samples or vrl_prune_min_probability means the default (1, 0.1), so initializers
+     * written before these fields existed keep working. */
+    int vrl_samples;                   /* >= 0: (u, v) samples per VRL / camera-ray pair */
+    int vrl_long;                      /* 0/1: long VRLs (to the media exit, cached transmittance) */
+    int vrl_connect_march;             /* 0/1: ray-march the VRL-to-camera-ray segment (biased) */
+    double vrl_march_step;             /* >= 0 world units for vrl_connect_march; 0: adaptive */
+    double vrl_prune_radius;           /* >= 0: Russian-roulette pruning radius as a fraction of the
+                                          media's bounding radius (unbiased); 0: off */
+    double vrl_prune_min_probability;  /* [0, 1]: floor of the pruning survival probability */
+    double vpl_clamp_distance;         /* >= 0 world units: 1/w^2 -> 1/max(w^2, c^2) (biased); 0: off */
 } vbl_render_options;
 
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
-     VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL}
+     VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -34,6 +34,27 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
                          (int)o->transmittance);
     if (o->mis != VBL_MIS_POWER && o->mis != VBL_MIS_BALANCE)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown MIS heuristic %d", (int)o->mis);
+    if (o->vrl_samples < 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_samples = %d must be >= 0 (0: default 1)",
+                         o->vrl_samples);
+    if (o->vrl_long != 0 && o->vrl_long != 1)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_long = %d must be 0 or 1", o->vrl_long);
+    if (o->vrl_connect_march != 0 && o->vrl_connect_march != 1)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_connect_march = %d must be 0 or 1",
+                         o->vrl_connect_march);
+    if (!(o->vrl_march_step >= 0.0 && isfinite(o->vrl_march_step)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_march_step = %g must be finite and >= 0",
+                         o->vrl_march_step);
+    if (!(o->vrl_prune_radius >= 0.0 && isfinite(o->vrl_prune_radius)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_prune_radius = %g must be finite and >= 0",
+                         o->vrl_prune_radius);
+    if (!(o->vrl_prune_min_probability >= 0.0 && o->vrl_prune_min_probability <= 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_render: vrl_prune_min_probability = %g is outside [0, 1] (0: default 0.1)",
+                         o->vrl_prune_min_probability);
+    if (!(o->vpl_clamp_distance >= 0.0 && isfinite(o->vpl_clamp_distance)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vpl_clamp_distance = %g must be finite and >= 0",
+                         o->vpl_clamp_distance);
     return VBL_SUCCESS;
 }
 

@@ -250,10 +250,82 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const cJSON* obj, co
     return VBL_SUCCESS;
 }
 
+/* Optional boolean `key` of `parent`: keeps *out when absent. */
+static vbl_result vbl_parse_bool(const vbl_json_ctx* ctx, const cJSON* parent, const char* parent_field,
+                                 const char* key, int* out)
+{
+    const cJSON* item = cJSON_GetObjectItemCaseSensitive(parent, key);
+    if (!item) return VBL_SUCCESS;
+    if (!cJSON_IsBool(item)) return vbl_json_fail(ctx, "%s.%s must be true or false", parent_field, key);
+    *out = cJSON_IsTrue(item) ? 1 : 0;
+    return VBL_SUCCESS;
+}
+
+/* Optional finite number in [lo, hi] (hi may be INFINITY). */
+static vbl_result vbl_parse_range(const vbl_json_ctx* ctx, const cJSON* parent, const char* parent_field,
+                                  const char* key, double lo, double hi, const char* range, double* out)
+{
+    double v = *out;
+    vbl_result r = vbl_json_number(ctx, parent, parent_field, key, 0, &v);
+    if (r) return r;
+    if (!(v >= lo && v <= hi && isfinite(v)))
+        return vbl_json_fail(ctx, "%s.%s = %g is outside %s", parent_field, key, v, range);
+    *out = v;
+    return VBL_SUCCESS;
+}
+
+/* render.vrl: {"samples", "long", "connect": "ratio"|"march", "march_step", "prune_radius",
+ * "prune_min_probability"}; render.vpl: {"clamp_distance"} (docs/readme/vrl.md). */
+static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJSON* render, vbl_render_options* o)
+{
+    static const char* const vrl_keys[] = {"samples", "long", "connect", "march_step", "prune_radius",
+                                           "prune_min_probability", NULL};
+    static const char* const vpl_keys[] = {"clamp_distance", NULL};
+    const cJSON* obj = NULL;
+    vbl_result r;
+    if ((r = vbl_json_object(ctx, render, "render", "vrl", 0, &obj))) return r;
+    if (obj) {
+        if ((r = vbl_json_check_keys(ctx, obj, "render.vrl", vrl_keys))) return r;
+        double v = o->vrl_samples > 0 ? o->vrl_samples : 1;
+        if ((r = vbl_json_int(ctx, obj, "render.vrl", "samples", 0, 1, 1e6, &v))) return r;
+        o->vrl_samples = (int)v;
+        if ((r = vbl_parse_bool(ctx, obj, "render.vrl", "long", &o->vrl_long))) return r;
+        const char* s = NULL;
+        if ((r = vbl_json_string(ctx, obj, "render.vrl", "connect", 0, &s))) return r;
+        if (s) {
+            if (!strcmp(s, "ratio"))
+                o->vrl_connect_march = 0;
+            else if (!strcmp(s, "march"))
+                o->vrl_connect_march = 1;
+            else
+                return vbl_json_fail(ctx, "render.vrl.connect = \"%s\" is not one of ratio, march", s);
+        }
+        if ((r = vbl_parse_range(ctx, obj, "render.vrl", "march_step", 0.0, INFINITY, "[0, inf)", &o->vrl_march_step)))
+            return r;
+        if ((r = vbl_parse_range(ctx, obj, "render.vrl", "prune_radius", 0.0, INFINITY, "[0, inf)",
+                                 &o->vrl_prune_radius)))
+            return r;
+        double q = o->vrl_prune_min_probability > 0.0 ? o->vrl_prune_min_probability : 0.1;
+        if ((r = vbl_json_number(ctx, obj, "render.vrl", "prune_min_probability", 0, &q))) return r;
+        if (!(q > 0.0 && q <= 1.0))
+            return vbl_json_fail(ctx, "render.vrl.prune_min_probability = %g is outside (0, 1]", q);
+        o->vrl_prune_min_probability = q;
+    }
+    obj = NULL;
+    if ((r = vbl_json_object(ctx, render, "render", "vpl", 0, &obj))) return r;
+    if (obj) {
+        if ((r = vbl_json_check_keys(ctx, obj, "render.vpl", vpl_keys))) return r;
+        if ((r = vbl_parse_range(ctx, obj, "render.vpl", "clamp_distance", 0.0, INFINITY, "[0, inf)",
+                                 &o->vpl_clamp_distance)))
+            return r;
+    }
+    return VBL_SUCCESS;
+}
+
 static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
-                                       "max_bounces", "transmittance", "mis", NULL};
+                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -295,7 +367,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
         else
             return vbl_json_fail(ctx, "render.mis = \"%s\" is not one of power, balance", s);
     }
-    return VBL_SUCCESS;
+    return vbl_parse_estimator_settings(ctx, obj, o);
 }
 
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)

@@ -1,6 +1,7 @@
 /* Virtual point lights along camera rays (vpl.h). */
 #include "transport/vpl.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 #include "core/error.h"
@@ -20,6 +21,9 @@ typedef struct vbl_vpl_store {
 vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store)
 {
     *store = NULL;
+    if (!(settings->clamp_distance >= 0.0 && isfinite(settings->clamp_distance)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vpl clamp_distance = %g must be finite and >= 0",
+                         ctx->scene->path, settings->clamp_distance);
     vbl_vpl_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vpl store)", ctx->scene->path);
     s->settings = *settings;
@@ -33,9 +37,17 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
     return VBL_SUCCESS;
 }
 
+void vbl_vpl_settings_from_options(const vbl_render_options* o, vbl_vpl_settings* out)
+{
+    vbl_vpl_settings d = VBL_VPL_SETTINGS_DEFAULT;
+    *out = d;
+    out->clamp_distance = o->vpl_clamp_distance;
+}
+
 static vbl_result vbl_vpl_pass_begin(const vbl_render_context* ctx, void** store)
 {
-    vbl_vpl_settings settings = VBL_VPL_SETTINGS_DEFAULT;
+    vbl_vpl_settings settings;
+    vbl_vpl_settings_from_options(&ctx->options, &settings);
     return vbl_vpl_pass_begin_with(ctx, &settings, store);
 }
 

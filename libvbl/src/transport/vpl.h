@@ -22,6 +22,9 @@ typedef struct vbl_vpl_settings {
 
 #define VBL_VPL_SETTINGS_DEFAULT {0.0}
 
+/* The settings of render options (vpl_clamp_distance); vbl_estimator_vpl uses these. */
+void vbl_vpl_settings_from_options(const vbl_render_options* options, vbl_vpl_settings* out);
+
 extern const vbl_estimator vbl_estimator_vpl;
 
 /* The estimator's pieces with explicit settings (tests and benchmarks build variants). */

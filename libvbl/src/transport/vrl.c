@@ -78,9 +78,22 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     return VBL_SUCCESS;
 }
 
+void vbl_vrl_settings_from_options(const vbl_render_options* o, vbl_vrl_settings* out)
+{
+    vbl_vrl_settings d = VBL_VRL_SETTINGS_DEFAULT;
+    *out = d;
+    if (o->vrl_samples > 0) out->samples = o->vrl_samples;
+    out->long_vrls = o->vrl_long != 0;
+    out->connect_marching = o->vrl_connect_march != 0;
+    out->march_step = o->vrl_march_step;
+    out->rr_radius = o->vrl_prune_radius;
+    if (o->vrl_prune_min_probability > 0.0) out->rr_min_probability = o->vrl_prune_min_probability;
+}
+
 static vbl_result vbl_vrl_pass_begin(const vbl_render_context* ctx, void** store)
 {
-    vbl_vrl_settings settings = VBL_VRL_SETTINGS_DEFAULT;
+    vbl_vrl_settings settings;
+    vbl_vrl_settings_from_options(&ctx->options, &settings);
     return vbl_vrl_pass_begin_with(ctx, &settings, store);
 }
 

@@ -37,6 +37,10 @@ typedef struct vbl_vrl_settings {
 
 #define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1}
 
+/* The settings of render options (vrl_* fields; zeros in samples / min probability mean the
+ * defaults). The estimator vbl_estimator_vrl uses these. */
+void vbl_vrl_settings_from_options(const vbl_render_options* options, vbl_vrl_settings* out);
+
 extern const vbl_estimator vbl_estimator_vrl;
 
 /* The estimator's pieces with explicit settings (tests and benchmarks build variants). */

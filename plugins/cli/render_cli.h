@@ -1,0 +1,71 @@
+/* `vbl render` internals shared by cmd_render.c (orchestration), render_options.c (flags),
+ * render_output.c (EXR layers, colour, metadata, preview) and render_checkpoint.c (the pass loop
+ * with checkpoints and interruption). Not a public header. */
+#ifndef VBL_CLI_RENDER_CLI_H
+#define VBL_CLI_RENDER_CLI_H
+
+#include "cli.h"
+
+#define VBL_RENDER_CLI_MAX_VDB 8
+
+/* The command line of `vbl render`, as parsed (negative numbers: not given). */
+typedef struct vbl_render_args {
+    const char* scene_path;
+    const char* output;
+    const char* preview;
+    const char* method;
+    const char* transmittance;
+    const char* vdb[VBL_RENDER_CLI_MAX_VDB];
+    int vdb_count;
+    long passes, spp, light_paths, threads, max_bounces, seed; /* max_bounces: LONG_MIN = not given */
+    double time_limit;                                          /* < 0: not given */
+    int quiet;
+    /* EXR storage */
+    int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */
+    const char* half_layers;      /* --half-layers LIST: these layers as HALF ("beauty" = the R,G,B,A) */
+    const char* aovs;             /* --aov LIST: z, samples, variance, all */
+    int aov_z, aov_samples, aov_variance;
+    int compression;              /* vbl_exr_compression; -1: default (zip) */
+    int tiled, tile_size;
+    /* colour */
+    const char* output_space;     /* NULL: the config's scene_linear space */
+    const char* config;           /* NULL: $OCIO, else the shipped config */
+    const char* display, *view;
+    double exposure;
+    /* checkpoints */
+    long checkpoint_passes;       /* 0: none */
+    double checkpoint_seconds;    /* 0: none */
+} vbl_render_args;
+
+/* Parses argv (argv[0] = "render"). Returns -1 to go on, else the exit code to return (help
+ * printed, or a usage error already reported on stderr). */
+int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args);
+
+/* Everything needed to write the outputs, prepared before rendering so that a bad colour space,
+ * an unwritable directory or an unreadable scene fails before any work is done. */
+typedef struct vbl_render_output vbl_render_output;
+
+/* Checks the output directories, hashes the scene file, opens the OCIO config and resolves the
+ * output colour space (its conversion matrix from scene_linear and its chromaticities). */
+vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_output** out);
+void vbl_render_output_destroy(vbl_render_output* output);
+
+/* Writes the EXR (`status`: "complete", "checkpoint", "interrupted", "time_limit") with the
+ * options actually used and the wall-clock seconds since the command started. */
+vbl_result vbl_render_output_write_exr(vbl_render_output* output, const vbl_film* film,
+                                       const vbl_render_options* options, int passes_requested,
+                                       const char* status, double wall_seconds);
+/* Writes the --preview PNG (no-op without --preview). */
+vbl_result vbl_render_output_write_preview(vbl_render_output* output, const vbl_film* film);
+
+/* Runs the progressive render with the command's checkpoints (writing them through `output`),
+ * progress lines and SIGINT/SIGTERM handling. On success or interruption *out_film receives the
+ * film and *status its status string; returns the render's result (VBL_ERROR_INTERRUPTED with a
+ * film after a signal). */
+vbl_result vbl_render_run(const vbl_scene* scene, const vbl_render_options* options, const vbl_render_args* args,
+                          vbl_render_output* output, vbl_film** out_film, const char** status);
+
+/* Monotonic clock in seconds. */
+double vbl_render_now(void);
+
+#endif

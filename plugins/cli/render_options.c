@@ -1,0 +1,186 @@
+/* `vbl render` flag parsing and --help text (docs/readme/render.md, "Command line"). */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_cli.h"
+
+static void vbl_render_usage(FILE* out)
+{
+    fprintf(out,
+            "usage: vbl render SCENE.json -o OUT.exr [options]\n\n"
+            "Renders a scene file (README 'Rendering') to one multi-layer OpenEXR: beauty R,G,B,A and one\n"
+            "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
+            "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
+            "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
+            "  --method pt|vpl|vrl        rendering method\n"
+            "  --passes N                 progressive passes (N >= 1)\n"
+            "  --spp N                    camera samples per pixel per pass (N >= 1)\n"
+            "  --light-paths N            light paths per pass (vpl, vrl)\n"
+            "  --seed S                   random seed (integer >= 0)\n"
+            "  --time-limit SEC           stop after the pass that exceeds SEC seconds (0: none)\n"
+            "  --max-bounces N            scattering events per path (-1: unlimited)\n"
+            "  --transmittance NAME       delta|ratio|residual|march|cached-delta|cached-ratio\n"
+            "  --threads N                worker threads (0: all cores)\n"
+            "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
+            "Output file:\n"
+            "  --aov LIST                 extra layers, comma-separated: z, samples, variance, all\n"
+            "  --half                     store beauty, transport and variance layers as HALF (default FLOAT;\n"
+            "                             HALF layers no longer sum to the beauty exactly). Z, samples: FLOAT\n"
+            "  --half-layers LIST         only these layers as HALF (beauty, emission, volume_direct, ...)\n"
+            "  --compression NAME         none|zip|piz|dwaa (default zip)\n"
+            "  --tiled                    tiled EXR (default scanlines); --tile-size N (default 64)\n"
+            "  --checkpoint-passes N      rewrite OUT.exr every N passes while rendering\n"
+            "  --checkpoint-seconds S     rewrite OUT.exr when S seconds passed since the last write\n\n"
+            "Colour (OpenColorIO; config $OCIO, else libvbl's own):\n"
+            "  --output-space NAME        colour space of the EXR pixels (default: the role scene_linear)\n"
+            "  --config FILE              OCIO config instead of $OCIO / the built-in one\n"
+            "  --preview OUT.png          also write an 8-bit PNG of the beauty through a display/view\n"
+            "  --display NAME, --view NAME, --exposure STOPS   the preview's transform (defaults: the\n"
+            "                             config's default display and view, 0 stops)\n\n"
+            "  -q, --quiet                no per-pass progress on stderr\n"
+            "  -h, --help                 this text\n\n"
+            "Exit codes: 0 ok, 1 render failed, 2 bad command line or unknown colour space, 3 bad scene/VDB,\n"
+            "4 cannot write, 5 interrupted (SIGINT/SIGTERM: the passes done so far are still written).\n");
+}
+
+static int vbl_parse_long(const char* text, long min, long max, long* out)
+{
+    char* end = NULL;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (errno || !end || *end || end == text || v < min || v > max) return 0;
+    *out = v;
+    return 1;
+}
+
+static int vbl_parse_double(const char* text, double min, double max, double* out)
+{
+    char* end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (errno || !end || *end || end == text || !isfinite(v) || v < min || v > max) return 0;
+    *out = v;
+    return 1;
+}
+
+static int vbl_parse_compression(const char* text, int* out)
+{
+    static const char* const names[4] = {"none", "zip", "piz", "dwaa"};
+    for (int i = 0; i < 4; ++i)
+        if (!strcmp(text, names[i])) {
+            *out = i; /* vbl_exr_compression order */
+            return 1;
+        }
+    return 0;
+}
+
+/* --aov LIST: comma-separated z, samples, variance, all. */
+static int vbl_parse_aovs(const char* text, vbl_render_args* args)
+{
+    const char* p = text;
+    while (*p) {
+        size_t n = strcspn(p, ",");
+        if (n == 1 && !strncmp(p, "z", 1)) args->aov_z = 1;
+        else if (n == 1 && !strncmp(p, "Z", 1)) args->aov_z = 1;
+        else if (n == 7 && !strncmp(p, "samples", 7)) args->aov_samples = 1;
+        else if (n == 8 && !strncmp(p, "variance", 8)) args->aov_variance = 1;
+        else if (n == 3 && !strncmp(p, "all", 3)) args->aov_z = args->aov_samples = args->aov_variance = 1;
+        else return 0;
+        p += n;
+        if (*p == ',') ++p;
+    }
+    return 1;
+}
+
+int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
+{
+    memset(args, 0, sizeof *args);
+    args->passes = args->spp = args->light_paths = args->seed = -1;
+    args->max_bounces = LONG_MIN;
+    args->time_limit = -1.0;
+    args->compression = -1;
+
+    for (int i = 1; i < argc; ++i) {
+        const char* a = argv[i];
+        const char* v = i + 1 < argc ? argv[i + 1] : NULL;
+        int takes = 1, ok = 1;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            vbl_render_usage(stdout);
+            return VBL_EXIT_OK;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            args->quiet = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--half")) {
+            args->half_all = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--tiled")) {
+            args->tiled = 1;
+            takes = 0;
+        } else if (a[0] != '-' || !a[1]) {
+            if (args->scene_path) {
+                fprintf(stderr, "vbl render: more than one scene file ('%s', '%s')\n", args->scene_path, a);
+                return VBL_EXIT_USAGE;
+            }
+            args->scene_path = a;
+            takes = 0;
+        } else if (!v) {
+            fprintf(stderr, "vbl render: %s needs a value (see 'vbl render --help')\n", a);
+            return VBL_EXIT_USAGE;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) args->output = v;
+        else if (!strcmp(a, "--preview")) args->preview = v;
+        else if (!strcmp(a, "--method")) args->method = v;
+        else if (!strcmp(a, "--transmittance")) args->transmittance = v;
+        else if (!strcmp(a, "--passes")) ok = vbl_parse_long(v, 1, INT_MAX, &args->passes);
+        else if (!strcmp(a, "--spp")) ok = vbl_parse_long(v, 1, INT_MAX, &args->spp);
+        else if (!strcmp(a, "--light-paths")) ok = vbl_parse_long(v, 0, INT_MAX, &args->light_paths);
+        else if (!strcmp(a, "--seed")) ok = vbl_parse_long(v, 0, LONG_MAX, &args->seed);
+        else if (!strcmp(a, "--threads")) ok = vbl_parse_long(v, 0, 4096, &args->threads);
+        else if (!strcmp(a, "--max-bounces")) ok = vbl_parse_long(v, -1, INT_MAX, &args->max_bounces);
+        else if (!strcmp(a, "--time-limit")) ok = vbl_parse_double(v, 0.0, 1e12, &args->time_limit);
+        else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
+        else if (!strcmp(a, "--half-layers")) args->half_layers = v;
+        else if (!strcmp(a, "--compression")) ok = vbl_parse_compression(v, &args->compression);
+        else if (!strcmp(a, "--tile-size")) {
+            long t = 0;
+            ok = vbl_parse_long(v, 1, 65536, &t);
+            args->tile_size = (int)t;
+        } else if (!strcmp(a, "--output-space")) args->output_space = v;
+        else if (!strcmp(a, "--config")) args->config = v;
+        else if (!strcmp(a, "--display")) args->display = v;
+        else if (!strcmp(a, "--view")) args->view = v;
+        else if (!strcmp(a, "--exposure")) ok = vbl_parse_double(v, -64.0, 64.0, &args->exposure);
+        else if (!strcmp(a, "--checkpoint-passes")) ok = vbl_parse_long(v, 1, INT_MAX, &args->checkpoint_passes);
+        else if (!strcmp(a, "--checkpoint-seconds"))
+            ok = vbl_parse_double(v, 0.0, 1e12, &args->checkpoint_seconds) && args->checkpoint_seconds > 0.0;
+        else if (!strcmp(a, "--vdb")) {
+            if (args->vdb_count >= VBL_RENDER_CLI_MAX_VDB) {
+                fprintf(stderr, "vbl render: at most %d --vdb overrides\n", VBL_RENDER_CLI_MAX_VDB);
+                return VBL_EXIT_USAGE;
+            }
+            args->vdb[args->vdb_count++] = v;
+        } else {
+            fprintf(stderr, "vbl render: unknown option '%s' (see 'vbl render --help')\n", a);
+            return VBL_EXIT_USAGE;
+        }
+        if (!ok) {
+            fprintf(stderr, "vbl render: invalid value '%s' for %s (see 'vbl render --help')\n", v, a);
+            return VBL_EXIT_USAGE;
+        }
+        i += takes;
+    }
+    if (!args->scene_path || !args->output) {
+        fprintf(stderr, "vbl render: %s\n\n", !args->scene_path ? "no scene file given" : "no output given (-o OUT.exr)");
+        vbl_render_usage(stderr);
+        return VBL_EXIT_USAGE;
+    }
+    if (args->tile_size && !args->tiled) {
+        fprintf(stderr, "vbl render: --tile-size needs --tiled\n");
+        return VBL_EXIT_USAGE;
+    }
+    return -1;
+}

@@ -1,0 +1,390 @@
+/* `vbl render` outputs: the film's layers converted to the output colour space, the EXR with its
+ * metadata (docs/readme/output.md, "Metadata"), and the PNG preview through OCIO. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "render_cli.h"
+
+#if defined(__has_include)
+#if __has_include("vbl_exr.h")
+#include "vbl_exr.h"
+#define VBL_RENDER_HAVE_EXR 1
+#endif
+#if defined(VBL_CLI_HAVE_COLOR) && __has_include("vbl_color.h")
+#include "vbl_color.h"
+#define VBL_RENDER_HAVE_COLOR 1
+#endif
+#endif
+
+#define VBL_RENDER_MAX_LAYERS 16
+
+struct vbl_render_output {
+    const vbl_render_args* args;
+    char scene_hash[40];      /* "fnv1a64:<16 hex digits>" of the scene file's bytes */
+    const char* scene_space;  /* the config's scene_linear colour space: the film's space */
+    const char* output_space; /* the EXR's colour space */
+    int convert;              /* output_space differs from scene_space */
+    double m[9];              /* scene_space -> output_space, row-major, linear */
+    float chroma[8];
+    int have_chroma;
+#ifdef VBL_RENDER_HAVE_COLOR
+    vbl_color_config* config;
+#endif
+};
+
+/* ---- checks made before rendering -------------------------------------------------------- */
+
+/* The directory of `path` must exist and be writable (outputs are renamed into it). */
+static vbl_result vbl_render_check_dir(const char* path, const char* what)
+{
+    const char* slash = strrchr(path, '/');
+    char dir[4096];
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == path) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return vbl_report_error(VBL_ERROR_FILE_IO, "%s: cannot write the %s: directory '%s' does not exist", path,
+                                what, dir);
+    if (access(dir, W_OK | X_OK) != 0)
+        return vbl_report_error(VBL_ERROR_FILE_IO, "%s: cannot write the %s: directory '%s' is not writable (%s)",
+                                path, what, dir, strerror(errno));
+    if (slash && !slash[1])
+        return vbl_report_error(VBL_ERROR_FILE_IO, "%s: the %s path names a directory", path, what);
+    return VBL_SUCCESS;
+}
+
+/* FNV-1a 64 of the scene file's bytes (offset basis 0xcbf29ce484222325, prime 0x100000001b3). */
+static vbl_result vbl_render_hash_scene(const char* path, char out[40])
+{
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return vbl_report_error(errno == ENOENT ? VBL_ERROR_FILE_NOT_FOUND : VBL_ERROR_FILE_IO,
+                                "%s: cannot open the scene file (%s)", path, strerror(errno));
+    uint64_t h = 0xcbf29ce484222325ull;
+    unsigned char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        for (size_t i = 0; i < n; ++i) h = (h ^ buf[i]) * 0x100000001b3ull;
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) return vbl_report_error(VBL_ERROR_FILE_IO, "%s: cannot read the scene file", path);
+    snprintf(out, 40, "fnv1a64:%016llx", (unsigned long long)h);
+    return VBL_SUCCESS;
+}
+
+/* Layer names accepted by --half-layers. */
+static const char* const vbl_render_colour_layers[] = {"beauty", "emission", "surface_direct", "volume_direct",
+                                                       "surface_from_surface", "surface_from_volume",
+                                                       "volume_from_surface", "volume_from_volume", "variance", NULL};
+
+static int vbl_render_list_has(const char* list, const char* name)
+{
+    size_t len = strlen(name);
+    for (const char* p = list; p && *p;) {
+        size_t n = strcspn(p, ",");
+        if (n == len && !strncmp(p, name, n)) return 1;
+        p += n;
+        if (*p == ',') ++p;
+    }
+    return 0;
+}
+
+static vbl_result vbl_render_check_half_layers(const char* list)
+{
+    for (const char* p = list; p && *p;) {
+        size_t n = strcspn(p, ",");
+        int known = 0;
+        for (int i = 0; vbl_render_colour_layers[i]; ++i)
+            known |= strlen(vbl_render_colour_layers[i]) == n && !strncmp(p, vbl_render_colour_layers[i], n);
+        if (!known)
+            return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
+                                    "--half-layers: '%.*s' is not a colour layer (beauty, emission, volume_direct, "
+                                    "volume_from_volume, ..., variance; Z and samples are always FLOAT)",
+                                    (int)n, p);
+        p += n;
+        if (*p == ',') ++p;
+    }
+    return VBL_SUCCESS;
+}
+
+#ifdef VBL_RENDER_HAVE_COLOR
+/* The scene_linear -> output matrix, read off the conversion of the unit vectors; the space must
+ * be linear (a display-encoded space would break "layers sum to beauty"). */
+static vbl_result vbl_render_output_matrix(vbl_render_output* o)
+{
+    for (int c = 0; c < 3; ++c) {
+        float e[3] = {0.0f, 0.0f, 0.0f};
+        e[c] = 1.0f;
+        vbl_result r = vbl_color_convert_rgb(o->config, o->scene_space, o->output_space, e);
+        if (r) return r;
+        for (int k = 0; k < 3; ++k) o->m[3 * k + c] = e[k];
+    }
+    static const float probes[2][3] = {{0.02f, 0.5f, 3.0f}, {40.0f, 0.25f, 0.125f}};
+    for (int p = 0; p < 2; ++p) {
+        float v[3] = {probes[p][0], probes[p][1], probes[p][2]};
+        vbl_result r = vbl_color_convert_rgb(o->config, o->scene_space, o->output_space, v);
+        if (r) return r;
+        for (int k = 0; k < 3; ++k) {
+            double want = o->m[3 * k] * probes[p][0] + o->m[3 * k + 1] * probes[p][1] + o->m[3 * k + 2] * probes[p][2];
+            if (!(fabs(want - v[k]) <= 1e-4 * (1.0 + fabs(want))))
+                return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
+                                        "--output-space '%s' is not a scene-linear colour space (the EXR holds "
+                                        "linear radiance; use a display space only for --preview)",
+                                        o->output_space);
+        }
+    }
+    return VBL_SUCCESS;
+}
+#endif
+
+vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_output** out)
+{
+    *out = NULL;
+    vbl_render_output* o = calloc(1, sizeof *o);
+    if (!o) return vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory");
+    o->args = args;
+    vbl_result r = vbl_render_check_dir(args->output, "output EXR");
+    if (!r && args->preview) r = vbl_render_check_dir(args->preview, "preview PNG");
+    if (!r) r = vbl_render_check_half_layers(args->half_layers);
+    if (!r) r = vbl_render_hash_scene(args->scene_path, o->scene_hash);
+#ifdef VBL_RENDER_HAVE_COLOR
+    if (!r) r = vbl_color_config_open(args->config, &o->config);
+    if (!r) r = vbl_color_resolve_space(o->config, "scene_linear", &o->scene_space);
+    if (!r) {
+        o->output_space = o->scene_space;
+        if (args->output_space) r = vbl_color_resolve_space(o->config, args->output_space, &o->output_space);
+        if (r) {
+            char msg[2048];
+            snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
+            r = vbl_report_error(r, "--output-space: %s", msg);
+        }
+    }
+    if (!r && strcmp(o->output_space, o->scene_space)) {
+        o->convert = 1;
+        r = vbl_render_output_matrix(o);
+    }
+    if (!r) {
+        o->have_chroma = vbl_color_space_chromaticities(o->config, o->output_space, o->chroma) == VBL_SUCCESS;
+        vbl_clear_error(); /* unknown primaries: no chromaticities attribute (documented) */
+    }
+    if (!r && args->preview) { /* an unknown display/view fails now, not after the render */
+        float probe[3] = {0.18f, 0.18f, 0.18f};
+        r = vbl_color_display_view(o->config, o->output_space, args->display, args->view, (float)args->exposure,
+                                   probe, 1, 3);
+    }
+#else
+    if (!r && (args->output_space || args->config || args->preview || args->display || args->view))
+        r = vbl_report_error(VBL_ERROR_UNSUPPORTED,
+                             "this vbl was built without OpenColorIO: --output-space/--config/--preview unavailable");
+#endif
+    if (r) {
+        vbl_render_output_destroy(o);
+        return r;
+    }
+    *out = o;
+    return VBL_SUCCESS;
+}
+
+void vbl_render_output_destroy(vbl_render_output* o)
+{
+    if (!o) return;
+#ifdef VBL_RENDER_HAVE_COLOR
+    vbl_color_config_release(o->config);
+#endif
+    free(o);
+}
+
+/* ---- layers ------------------------------------------------------------------------------ */
+
+typedef enum { VBL_KIND_BEAUTY, VBL_KIND_TRANSPORT, VBL_KIND_Z, VBL_KIND_SAMPLES, VBL_KIND_VARIANCE } vbl_layer_kind;
+
+static vbl_layer_kind vbl_render_layer_kind(const char* name)
+{
+    if (!name[0]) return VBL_KIND_BEAUTY;
+    if (!strcmp(name, "Z")) return VBL_KIND_Z;
+    if (!strcmp(name, "samples")) return VBL_KIND_SAMPLES;
+    if (!strcmp(name, "variance")) return VBL_KIND_VARIANCE;
+    return VBL_KIND_TRANSPORT;
+}
+
+/* The film's layers as written: AOVs filtered, RGB converted to the output space. Converted
+ * transport layers are re-summed (in film order, in float) into the beauty so that the layers
+ * still add up to it exactly; variances transform with the element-wise squared matrix
+ * (channels treated as uncorrelated). `owned` holds the buffers to free. */
+typedef struct vbl_render_layers {
+    const char* names[VBL_RENDER_MAX_LAYERS];
+    const float* pixels[VBL_RENDER_MAX_LAYERS];
+    int channels[VBL_RENDER_MAX_LAYERS];
+    vbl_layer_kind kinds[VBL_RENDER_MAX_LAYERS];
+    float* owned[VBL_RENDER_MAX_LAYERS];
+    int count;
+} vbl_render_layers;
+
+static void vbl_render_layers_free(vbl_render_layers* L)
+{
+    for (int i = 0; i < L->count; ++i) free(L->owned[i]);
+}
+
+static vbl_result vbl_render_layers_make(const vbl_render_output* o, const vbl_film* film, vbl_render_layers* L)
+{
+    memset(L, 0, sizeof *L);
+    const size_t n = (size_t)vbl_film_width(film) * (size_t)vbl_film_height(film);
+    int beauty = -1, transport_count = 0;
+    for (int i = 0; i < vbl_film_layer_count(film) && L->count < VBL_RENDER_MAX_LAYERS; ++i) {
+        const char* name = vbl_film_layer_name(film, i);
+        vbl_layer_kind kind = vbl_render_layer_kind(name);
+        if ((kind == VBL_KIND_Z && !o->args->aov_z) || (kind == VBL_KIND_SAMPLES && !o->args->aov_samples) ||
+            (kind == VBL_KIND_VARIANCE && !o->args->aov_variance))
+            continue;
+        int channels = 0;
+        const float* px = vbl_film_layer(film, name, &channels);
+        if (!px) continue;
+        int k = L->count++;
+        L->names[k] = name;
+        L->pixels[k] = px;
+        L->channels[k] = channels;
+        L->kinds[k] = kind;
+        if (kind == VBL_KIND_BEAUTY) beauty = k;
+        if (kind == VBL_KIND_TRANSPORT) ++transport_count;
+        if (!o->convert || channels < 3 || kind == VBL_KIND_Z || kind == VBL_KIND_SAMPLES) continue;
+        float* copy = malloc(sizeof(float) * n * (size_t)channels);
+        if (!copy) {
+            vbl_render_layers_free(L);
+            return vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory converting colours");
+        }
+        memcpy(copy, px, sizeof(float) * n * (size_t)channels);
+        double m[9];
+        for (int e = 0; e < 9; ++e) m[e] = kind == VBL_KIND_VARIANCE ? o->m[e] * o->m[e] : o->m[e];
+        for (size_t p = 0; p < n; ++p) {
+            float* v = copy + p * (size_t)channels;
+            double x = v[0], y = v[1], z = v[2];
+            for (int r = 0; r < 3; ++r) v[r] = (float)(m[3 * r] * x + m[3 * r + 1] * y + m[3 * r + 2] * z);
+        }
+        L->owned[k] = copy;
+        L->pixels[k] = copy;
+    }
+    if (o->convert && beauty >= 0 && transport_count > 0) {
+        float* b = L->owned[beauty];
+        for (size_t p = 0; p < n; ++p) {
+            float sum[3] = {0.0f, 0.0f, 0.0f};
+            for (int k = 0; k < L->count; ++k)
+                if (L->kinds[k] == VBL_KIND_TRANSPORT)
+                    for (int c = 0; c < 3; ++c) sum[c] += L->pixels[k][p * (size_t)L->channels[k] + (size_t)c];
+            for (int c = 0; c < 3; ++c) b[p * (size_t)L->channels[beauty] + (size_t)c] = sum[c];
+        }
+    }
+    return VBL_SUCCESS;
+}
+
+/* ---- EXR --------------------------------------------------------------------------------- */
+
+#ifdef VBL_RENDER_HAVE_EXR
+static int vbl_render_store_half(const vbl_render_args* a, const char* name, vbl_layer_kind kind)
+{
+    if (kind == VBL_KIND_Z || kind == VBL_KIND_SAMPLES) return 0;
+    return a->half_all || vbl_render_list_has(a->half_layers, kind == VBL_KIND_BEAUTY ? "beauty" : name);
+}
+#endif
+
+vbl_result vbl_render_output_write_exr(vbl_render_output* o, const vbl_film* film, const vbl_render_options* options,
+                                       int passes_requested, const char* status, double wall_seconds)
+{
+#ifndef VBL_RENDER_HAVE_EXR
+    (void)o, (void)film, (void)options, (void)passes_requested, (void)status, (void)wall_seconds;
+    return vbl_report_error(VBL_ERROR_UNSUPPORTED, "this vbl was built without the EXR writer");
+#else
+    vbl_render_layers L;
+    vbl_result r = vbl_render_layers_make(o, film, &L);
+    if (r) return r;
+    static const char* const z_names[1] = {"Z"};
+    static const char* const y_names[1] = {"Y"};
+    vbl_exr_layer layers[VBL_RENDER_MAX_LAYERS];
+    for (int i = 0; i < L.count; ++i) {
+        vbl_exr_layer* l = &layers[i];
+        memset(l, 0, sizeof *l);
+        l->name = L.kinds[i] == VBL_KIND_Z ? "" : L.names[i];
+        l->channel_count = L.channels[i];
+        l->channel_names = L.kinds[i] == VBL_KIND_Z ? z_names : (L.channels[i] == 1 ? y_names : NULL);
+        l->pixels = L.pixels[i];
+        l->store_half = vbl_render_store_half(o->args, L.names[i], L.kinds[i]);
+    }
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.size = sizeof stats;
+    vbl_film_get_stats(film, &stats);
+    char software[64], seed[32];
+    snprintf(software, sizeof software, "vbl %s", vbl_version_string());
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)stats.seed);
+    const vbl_exr_attribute_type S = VBL_EXR_ATTRIBUTE_STRING, I = VBL_EXR_ATTRIBUTE_INT, D = VBL_EXR_ATTRIBUTE_DOUBLE;
+    vbl_exr_attribute attrs[] = {
+        {"software", software, S, 0, 0.0},
+        {"vbl:version", vbl_version_string(), S, 0, 0.0},
+        {"vbl:scene", o->args->scene_path, S, 0, 0.0},
+        {"vbl:scene_hash", o->scene_hash, S, 0, 0.0},
+        {"vbl:method", vbl_render_method_name(stats.method), S, 0, 0.0},
+        {"vbl:preset", "none", S, 0, 0.0},
+        {"vbl:status", status, S, 0, 0.0},
+        {"vbl:passes", NULL, I, stats.passes, 0.0},
+        {"vbl:passes_requested", NULL, I, passes_requested, 0.0},
+        {"vbl:spp", NULL, I, stats.spp, 0.0},
+        {"vbl:light_paths", NULL, I, stats.light_paths, 0.0},
+        {"vbl:seed", seed, S, 0, 0.0},
+        {"vbl:threads", NULL, I, stats.threads, 0.0},
+        {"vbl:max_bounces", NULL, I, options->max_bounces, 0.0},
+        {"vbl:transmittance", vbl_transmittance_estimator_name(options->transmittance), S, 0, 0.0},
+        {"vbl:render_seconds", NULL, D, 0, wall_seconds},
+        {"vbl:alpha", "premultiplied; A = 1 - transmittance along the camera ray", S, 0, 0.0},
+        {"vbl:scene_color_space", o->scene_space ? o->scene_space : "scene_linear", S, 0, 0.0},
+    };
+    vbl_exr_write_options wo = VBL_EXR_WRITE_OPTIONS_DEFAULT;
+    wo.attributes = attrs;
+    wo.attribute_count = (int)(sizeof attrs / sizeof attrs[0]);
+    if (o->args->compression >= 0) wo.compression = (vbl_exr_compression)o->args->compression;
+    wo.tiled = o->args->tiled;
+    wo.tile_size = o->args->tile_size;
+    wo.color_space = o->output_space;
+    wo.chromaticities = o->have_chroma ? o->chroma : NULL;
+    r = vbl_exr_write(o->args->output, vbl_film_width(film), vbl_film_height(film), layers, L.count, &wo);
+    vbl_render_layers_free(&L);
+    return r;
+#endif
+}
+
+/* ---- preview ----------------------------------------------------------------------------- */
+
+vbl_result vbl_render_output_write_preview(vbl_render_output* o, const vbl_film* film)
+{
+    if (!o->args->preview) return VBL_SUCCESS;
+#ifndef VBL_RENDER_HAVE_COLOR
+    (void)film;
+    return vbl_report_error(VBL_ERROR_UNSUPPORTED, "this vbl was built without OpenColorIO: no --preview");
+#else
+    vbl_render_layers L;
+    vbl_result r = vbl_render_layers_make(o, film, &L);
+    if (r) return r;
+    int beauty = -1;
+    for (int i = 0; i < L.count; ++i)
+        if (L.kinds[i] == VBL_KIND_BEAUTY) beauty = i;
+    if (beauty < 0) r = vbl_report_error(VBL_ERROR_INTERNAL, "vbl render: the film has no beauty layer");
+    if (!r) {
+        vbl_preview_options po = VBL_PREVIEW_OPTIONS_DEFAULT;
+        po.config = o->config;
+        po.input_space = o->output_space;
+        po.display = o->args->display;
+        po.view = o->args->view;
+        po.exposure = (float)o->args->exposure;
+        r = vbl_preview_write_png(o->args->preview, L.pixels[beauty], vbl_film_width(film), vbl_film_height(film),
+                                  L.channels[beauty], &po);
+    }
+    vbl_render_layers_free(&L);
+    return r;
+#endif
+}
