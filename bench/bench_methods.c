@@ -218,7 +218,9 @@ static void render_reference(const vbl_scene* scene, const bench_args* a, float*
             fprintf(stderr, "bench_methods: %s\n", vbl_last_error_message());
             exit(1);
         }
-        vbl_film_stats st = {sizeof st};
+        vbl_film_stats st;
+        memset(&st, 0, sizeof st);
+        st.size = sizeof st;
         vbl_film_get_stats(film, &st);
         printf("# reference half %d: pt %d passes x %d spp in %.1f s\n", h, st.passes, st.spp, st.render_seconds);
         film_layers(film, n, halves + (size_t)h * LAYERS * n);

@@ -94,7 +94,9 @@ double vbl_vsl_cone_hg_product_max(const vbl_vsl_cone* c, double g1, vbl_vec3 m1
     vbl_vec3 best = c->axis;
     double fbest = product(g1, m1, g2, m2, best);
     double omega = angle_between(p1, p2);
-    const int k = 16;
+    /* Thin cone (or coincident candidates): the product cannot vary much across the geodesic;
+     * the two least-rotation directions and the axis suffice. */
+    const int k = (c->half_angle < 0.02 || omega < 1e-3) ? 1 : 16;
     for (int i = 0; i <= k; ++i) {
         vbl_vec3 w = i == 0 ? p1 : (i == k ? p2 : slerp(p1, p2, omega, (double)i / k));
         double f = product(g1, m1, g2, m2, w);

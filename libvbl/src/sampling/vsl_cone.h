@@ -48,7 +48,7 @@ double vbl_vsl_cone_hg_max(const vbl_vsl_cone* c, double g, vbl_vec3 m, vbl_vec3
 
 /* Maximum over the cone of HG(g1, m1 . omega) HG(g2, m2 . omega), the section 3.1/3.2 PDF-vertex
  * value. Evaluated at the least-rotation directions to the two lobe peaks (the paper's
- * omega'_max), the axis, and 15 points on the geodesic between the two least-rotation
+ * omega'_max), the axis, and (cones wider than 0.02 rad) 15 points on the geodesic between the two least-rotation
  * directions (inside the cone: a cap of half-angle <= pi/2 is geodesically convex), where the
  * product's maximum lies when the cone contains or nearly contains the arc between the peaks.
  * Exact when a lobe is isotropic; otherwise a close LOWER estimate of the maximum (tested

@@ -1,0 +1,176 @@
+/* The vrl/vpl estimator settings in the scene's render block (render.vrl, render.vpl): parsing,
+ * defaults, errors naming file and field, and validation of the public options by vbl_render. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_test_util.h"
+#include "vbl/vbl.h"
+
+#define CAMERA "\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 30, \"resolution\": [4, 3]}"
+
+static char g_dir[256];
+
+static vbl_result load_text(const char* name, const char* text, vbl_scene** scene)
+{
+    char path[512];
+    rt_write_file(g_dir, name, text, path);
+    return vbl_scene_load(path, scene);
+}
+
+static void expect_error(const char* render_block, const char* suffix)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "{" CAMERA ", \"render\": %s}", render_block);
+    vbl_scene* scene = NULL;
+    vbl_result r = load_text("scene.json", text, &scene);
+    char expected[1024];
+    snprintf(expected, sizeof expected, "%s/scene.json: %s", g_dir, suffix);
+    if (r != VBL_ERROR_SCENE || strcmp(vbl_last_error_message(), expected))
+        fprintf(stderr, "got %s '%s'\nwant VBL_ERROR_SCENE '%s'\n", vbl_result_name(r), vbl_last_error_message(),
+                expected);
+    assert_int_equal(r, VBL_ERROR_SCENE);
+    assert_string_equal(vbl_last_error_message(), expected);
+    assert_null(scene);
+}
+
+static void test_defaults(void** state)
+{
+    (void)state;
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(o.vrl_samples, 1);
+    assert_int_equal(o.vrl_long, 0);
+    assert_int_equal(o.vrl_connect_march, 0);
+    assert_true(o.vrl_prune_radius == 0.0);
+    assert_true(o.vrl_prune_min_probability == 0.1);
+    assert_true(o.vpl_clamp_distance == 0.0);
+    vbl_scene* scene = NULL;
+    assert_int_equal(load_text("d.json", "{" CAMERA ", \"render\": {\"method\": \"vrl\"}}", &scene), VBL_SUCCESS);
+    memset(&o, 0, sizeof o);
+    o.size = sizeof o;
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    assert_int_equal(o.vrl_samples, 1);
+    assert_true(o.vrl_prune_min_probability == 0.1);
+    vbl_scene_release(scene);
+}
+
+static void test_parse_fields(void** state)
+{
+    (void)state;
+    vbl_scene* scene = NULL;
+    assert_int_equal(load_text("ok.json",
+                               "{" CAMERA ", \"render\": {\"method\": \"vrl\", \"light_paths\": 50,"
+                               " \"vrl\": {\"samples\": 3, \"long\": true, \"connect\": \"march\", \"march_step\": 0.05,"
+                               " \"prune_radius\": 0.25, \"prune_min_probability\": 0.05, \"_note\": \"x\"},"
+                               " \"vpl\": {\"clamp_distance\": 0.1}}}",
+                               &scene),
+                     VBL_SUCCESS);
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    assert_int_equal(o.method, VBL_RENDER_VRL);
+    assert_int_equal(o.light_paths, 50);
+    assert_int_equal(o.vrl_samples, 3);
+    assert_int_equal(o.vrl_long, 1);
+    assert_int_equal(o.vrl_connect_march, 1);
+    assert_true(o.vrl_march_step == 0.05);
+    assert_true(o.vrl_prune_radius == 0.25);
+    assert_true(o.vrl_prune_min_probability == 0.05);
+    assert_true(o.vpl_clamp_distance == 0.1);
+    vbl_scene_release(scene);
+
+    assert_int_equal(load_text("ok2.json",
+                               "{" CAMERA ", \"render\": {\"vrl\": {\"long\": false, \"connect\": \"ratio\"}}}", &scene),
+                     VBL_SUCCESS);
+    o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    assert_int_equal(o.vrl_long, 0);
+    assert_int_equal(o.vrl_connect_march, 0);
+    assert_int_equal(o.vrl_samples, 1);
+    vbl_scene_release(scene);
+}
+
+static void test_parse_errors(void** state)
+{
+    (void)state;
+    expect_error("{\"vrl\": {\"samples\": 0}}", "render.vrl.samples = 0 is outside [1, 1000000]");
+    expect_error("{\"vrl\": {\"samples\": 1.5}}", "render.vrl.samples must be an integer");
+    expect_error("{\"vrl\": {\"long\": 1}}", "render.vrl.long must be true or false");
+    expect_error("{\"vrl\": {\"connect\": \"teleport\"}}", "render.vrl.connect = \"teleport\" is not one of ratio, march");
+    expect_error("{\"vrl\": {\"connect\": 2}}", "render.vrl.connect must be a string");
+    expect_error("{\"vrl\": {\"prune_radius\": -0.5}}", "render.vrl.prune_radius = -0.5 is outside [0, inf)");
+    expect_error("{\"vrl\": {\"prune_min_probability\": 0}}", "render.vrl.prune_min_probability = 0 is outside (0, 1]");
+    expect_error("{\"vrl\": {\"prune_min_probability\": 1.5}}",
+                 "render.vrl.prune_min_probability = 1.5 is outside (0, 1]");
+    expect_error("{\"vrl\": {\"march_step\": -1}}", "render.vrl.march_step = -1 is outside [0, inf)");
+    expect_error("{\"vrl\": {\"sample\": 2}}", "unknown key 'render.vrl.sample'");
+    expect_error("{\"vrl\": 3}", "render.vrl must be an object");
+    expect_error("{\"vpl\": {\"clamp_distance\": -0.1}}", "render.vpl.clamp_distance = -0.1 is outside [0, inf)");
+    expect_error("{\"vpl\": {\"clamp_distance\": \"far\"}}", "render.vpl.clamp_distance must be a number");
+    expect_error("{\"vpl\": {\"clamp\": 1}}", "unknown key 'render.vpl.clamp'");
+}
+
+static void test_render_validates(void** state)
+{
+    (void)state;
+    vbl_scene* scene = NULL;
+    assert_int_equal(load_text("v.json", "{" CAMERA "}", &scene), VBL_SUCCESS);
+    vbl_render_options base = VBL_RENDER_OPTIONS_DEFAULT;
+    base.passes = 1;
+    base.spp = 1;
+    base.threads = 1;
+    vbl_film* film = NULL;
+    vbl_render_options o = base;
+    o.vrl_samples = -1;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vrl_samples"));
+    o = base;
+    o.vrl_prune_min_probability = 2.0;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vrl_prune_min_probability"));
+    o = base;
+    o.vpl_clamp_distance = -1.0;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vpl_clamp_distance"));
+    o = base;
+    o.vrl_long = 2;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    assert_null(film);
+    /* zeros in the new fields (initializers older than them) are the defaults */
+    o = base;
+    o.method = VBL_RENDER_VRL;
+    o.vrl_samples = 0;
+    o.vrl_prune_min_probability = 0.0;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
+    vbl_film_release(film);
+    vbl_scene_release(scene);
+}
+
+static int setup(void** state)
+{
+    (void)state;
+    rt_make_temp_dir(g_dir);
+    return 0;
+}
+
+static int teardown(void** state)
+{
+    (void)state;
+    rt_remove_dir(g_dir);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_parse_fields),
+        cmocka_unit_test(test_parse_errors),
+        cmocka_unit_test(test_render_validates),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
