@@ -298,7 +298,7 @@ static void test_vbl_pair_chi2_detects_wrong_pdf(void** state)
     assert_false(vbl_chi2_check("vbl R=0.3 vs pdf R=0.02 (must fail)", obs, expct, NB, 0.01, 1));
 }
 
-static void test_vbl_pair_extremes(void** state)
+static void test_vsl_kernel_pair_extremes(void** state)
 {
     (void)state;
     const double xs[] = {0.0, 1e-300, 1e-9, 0.5, 1.0 - 1e-9, nextafter(1.0, 0.0), 1.0};
@@ -562,7 +562,7 @@ int main(int argc, char** argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vbl_pair_normalisation),
         cmocka_unit_test(test_vbl_pair_stage1_closed_form),
-        cmocka_unit_test(test_vbl_pair_extremes),
+        cmocka_unit_test(test_vsl_kernel_pair_extremes),
         cmocka_unit_test(test_vbl_pair_marginal_chi2),
         cmocka_unit_test(test_vbl_pair_conditional_chi2),
         cmocka_unit_test(test_vbl_pair_joint_chi2),
