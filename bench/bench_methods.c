@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "transport/photon_trace.h"
 #include "vbl/vbl.h"
 
 #ifndef VBL_BENCH_DEFAULT_VDB
@@ -228,6 +229,30 @@ static void render_reference(const vbl_scene* scene, const bench_args* a, float*
     }
 }
 
+/* Virtual lights per light path on this scene (1000 paths, the photon tracer the estimators use):
+ * the per-camera-sample cost of vpl / vrl is proportional to these counts. */
+static void print_photon_stats(const vbl_scene* scene, int threads)
+{
+    vbl_render_context ctx;
+    memset(&ctx, 0, sizeof ctx);
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    vbl_scene_render_options(scene, &o);
+    o.light_paths = 1000;
+    ctx.scene = scene;
+    ctx.extinction = &scene->extinction;
+    ctx.options = o;
+    ctx.tracking.estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;
+    ctx.threads = threads > 0 ? threads : omp_get_max_threads();
+    vbl_photon_settings ps = {1, 1, 0, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+    vbl_photon_store st;
+    if (vbl_photon_trace(&ctx, &ps, &st)) return;
+    double len = 0.0;
+    for (size_t i = 0; i < st.vrl_count; ++i) len += st.vrls[i].length;
+    printf("# photon tracing: %.2f VRLs and %.2f VPLs per light path, mean short-VRL length %.4f\n",
+           st.vrl_count / 1000.0, st.vpl_count / 1000.0, st.vrl_count ? len / st.vrl_count : 0.0);
+    vbl_photon_store_free(&st);
+}
+
 int main(int argc, char** argv)
 {
     bench_args a;
@@ -260,6 +285,7 @@ int main(int argc, char** argv)
     if (a.budget_count < 1 || !(a.reference_seconds > 0.0) || a.pt_spp < 1) goto usage;
 
     vbl_scene* scene = load_scene(&a);
+    print_photon_stats(scene, a.threads);
     const int n = a.width * a.height;
     float* halves = calloc((size_t)2 * LAYERS * n, sizeof *halves);
     float* ref = calloc((size_t)LAYERS * n, sizeof *ref);

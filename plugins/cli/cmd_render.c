@@ -51,6 +51,8 @@ int vbl_cmd_render(int argc, char** argv)
     if (args.seed >= 0) options.seed = (uint64_t)args.seed;
     if (args.time_limit >= 0.0) options.time_limit = args.time_limit;
     if (args.max_bounces != LONG_MIN) options.max_bounces = (int)args.max_bounces;
+    if (args.vbl_radius0 > 0.0) options.vbl_radius0 = args.vbl_radius0;
+    if (args.vbl_alpha > 0.0) options.vbl_alpha = args.vbl_alpha;
     options.threads = (int)args.threads;
 
     int w = 0, h = 0;

@@ -15,6 +15,7 @@ static const vbl_cli_command vbl_cli_commands[] = {
     {"transmittance", vbl_cmd_transmittance, "render a transmittance image of a volume"},
     {"render", vbl_cmd_render, "render a scene file to a multi-layer EXR"},
     {"preview", vbl_cmd_preview, "write a PNG of an EXR layer through an OCIO display/view"},
+    {"diff", vbl_cmd_diff, "per-layer error (rMAE, RMSE, max) of an EXR against a reference"},
 };
 
 static void vbl_cli_print_help(FILE* out)

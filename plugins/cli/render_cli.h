@@ -19,6 +19,7 @@ typedef struct vbl_render_args {
     int vdb_count;
     long passes, spp, light_paths, threads, max_bounces, seed; /* max_bounces: LONG_MIN = not given */
     double time_limit;                                          /* < 0: not given */
+    double vbl_radius0, vbl_alpha;                              /* --vbl-radius0/--vbl-alpha; < 0: not given */
     int quiet;
     /* EXR storage */
     int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */

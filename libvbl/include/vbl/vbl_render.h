@@ -57,10 +57,11 @@ VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
 typedef enum vbl_render_method {
     VBL_RENDER_PT = 0,  /* volumetric path tracer (reference) */
     VBL_RENDER_VPL = 1, /* virtual point lights */
-    VBL_RENDER_VRL = 2  /* virtual ray lights */
+    VBL_RENDER_VRL = 2, /* virtual ray lights */
+    VBL_RENDER_VBL = 3  /* virtual beam lights (media-to-media, progressive radius) */
 } vbl_render_method;
 
-/* "pt", "vpl", "vrl"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
+/* "pt", "vpl", "vrl", "vbl"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
 VBL_API const char* vbl_render_method_name(vbl_render_method method);
 VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out);
 
@@ -105,12 +106,14 @@ typedef struct vbl_render_options {
                                           media's bounding radius (unbiased); 0: off */
     double vrl_prune_min_probability;  /* [0, 1]: floor of the pruning survival probability */
     double vpl_clamp_distance;         /* >= 0 world units: 1/w^2 -> 1/max(w^2, c^2) (biased); 0: off */
+    double vbl_radius0; /* world units; 0: default from scene scale and VRL density */
+    double vbl_alpha;   /* (0,1); 0: 0.7 */
 } vbl_render_options;
 
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -1,6 +1,7 @@
 /* Method -> estimator table. vpl and vrl plug in here (transport/vpl.h, transport/vrl.h). */
 #include "transport/estimator.h"
 #include "transport/pt.h"
+#include "transport/vbl_beams.h"
 #include "transport/vpl.h"
 #include "transport/vrl.h"
 
@@ -10,6 +11,7 @@ const vbl_estimator* vbl_estimator_for(vbl_render_method method)
     case VBL_RENDER_PT: return &vbl_estimator_pt;
     case VBL_RENDER_VPL: return &vbl_estimator_vpl;
     case VBL_RENDER_VRL: return &vbl_estimator_vrl;
+    case VBL_RENDER_VBL: return &vbl_estimator_vbl;
     }
     return NULL;
 }

@@ -18,7 +18,7 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!scene || !o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
     if (o->size < sizeof(vbl_render_options))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: options.size is too small");
-    if ((unsigned)o->method > (unsigned)VBL_RENDER_VRL)
+    if ((unsigned)o->method > (unsigned)VBL_RENDER_VBL)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown method %d", (int)o->method);
     if (o->passes < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: passes = %d must be >= 1", o->passes);
     if (o->spp < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: spp = %d must be >= 1", o->spp);
@@ -55,6 +55,12 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!(o->vpl_clamp_distance >= 0.0 && isfinite(o->vpl_clamp_distance)))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vpl_clamp_distance = %g must be finite and >= 0",
                          o->vpl_clamp_distance);
+    if (!(o->vbl_radius0 >= 0.0 && isfinite(o->vbl_radius0)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_radius0 = %g must be finite and >= 0 (0: default)",
+                         o->vbl_radius0);
+    if (!(o->vbl_alpha >= 0.0 && o->vbl_alpha < 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_alpha = %g is outside (0, 1) (0: default 0.7)",
+                         o->vbl_alpha);
     return VBL_SUCCESS;
 }
 

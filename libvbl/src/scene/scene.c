@@ -50,21 +50,22 @@ vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_options* 
     return VBL_SUCCESS;
 }
 
-static const char* const vbl_method_names[] = {"pt", "vpl", "vrl"};
+static const char* const vbl_method_names[] = {"pt", "vpl", "vrl", "vbl"};
+#define VBL_METHOD_COUNT (sizeof vbl_method_names / sizeof vbl_method_names[0])
 
 const char* vbl_render_method_name(vbl_render_method method)
 {
-    return (unsigned)method < 3u ? vbl_method_names[method] : "unknown";
+    return (unsigned)method < VBL_METHOD_COUNT ? vbl_method_names[method] : "unknown";
 }
 
 vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out)
 {
-    for (int i = 0; name && i < 3; ++i)
+    for (int i = 0; name && i < (int)VBL_METHOD_COUNT; ++i)
         if (!strcmp(name, vbl_method_names[i])) {
             *out = (vbl_render_method)i;
             return VBL_SUCCESS;
         }
-    return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl)", name ? name : "");
+    return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl, vbl)", name ? name : "");
 }
 
 void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction)

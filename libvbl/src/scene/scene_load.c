@@ -319,13 +319,30 @@ static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJ
                                  &o->vpl_clamp_distance)))
             return r;
     }
+    /* render.vbl: {"radius0" (world units, > 0), "alpha" in (0, 1)} (docs/readme/beams.md) */
+    static const char* const vbl_keys[] = {"radius0", "alpha", NULL};
+    obj = NULL;
+    if ((r = vbl_json_object(ctx, render, "render", "vbl", 0, &obj))) return r;
+    if (obj) {
+        if ((r = vbl_json_check_keys(ctx, obj, "render.vbl", vbl_keys))) return r;
+        double v = o->vbl_radius0;
+        if ((r = vbl_json_number(ctx, obj, "render.vbl", "radius0", 0, &v))) return r;
+        if (cJSON_HasObjectItem(obj, "radius0") && !(v > 0.0 && isfinite(v)))
+            return vbl_json_fail(ctx, "render.vbl.radius0 = %g must be a finite number > 0", v);
+        o->vbl_radius0 = v;
+        v = o->vbl_alpha;
+        if ((r = vbl_json_number(ctx, obj, "render.vbl", "alpha", 0, &v))) return r;
+        if (cJSON_HasObjectItem(obj, "alpha") && !(v > 0.0 && v < 1.0))
+            return vbl_json_fail(ctx, "render.vbl.alpha = %g is outside (0, 1)", v);
+        o->vbl_alpha = v;
+    }
     return VBL_SUCCESS;
 }
 
 static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
-                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", NULL};
+                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -334,7 +351,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
     const char* s = NULL;
     if ((r = vbl_json_string(ctx, obj, "render", "method", 0, &s))) return r;
     if (s && vbl_render_method_parse(s, &o->method))
-        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl", s);
+        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl, vbl", s);
     double v = o->passes;
     if ((r = vbl_json_int(ctx, obj, "render", "passes", 0, 1, 1e9, &v))) return r;
     o->passes = (int)v;

@@ -44,7 +44,9 @@ static inline vbl_transport_class vbl_class_for_scatter_events(int scatter_event
 typedef struct vbl_render_context {
     const vbl_scene* scene;
     const vbl_extinction* extinction;
-    vbl_render_options options;   /* validated; options.transmittance may be a cached kind */
+    vbl_render_options options;   /* validated; options.transmittance may be a cached kind; the
+                                     vrl_* / vpl_* fields are the estimators' settings
+                                     (vbl_vrl_settings_from_options, vbl_vpl_settings_from_options) */
     vbl_tracking_settings tracking; /* for single transmittance estimates (cached kinds mapped
                                        to their uncached counterparts) */
     uint32_t pass;                /* current pass, 0-based */

@@ -1,0 +1,177 @@
+/* Virtual beam lights, media-to-media (vbl_beams.h). */
+#include "transport/vbl_beams.h"
+
+#include <stdlib.h>
+
+#include "core/error.h"
+#include "render/radius_schedule.h"
+#include "sampling/vbl_pair.h"
+#include "transport/light_emission.h"
+#include "transport/photon_trace.h"
+#include "transport/single_scatter.h"
+#include "volume/transmittance_cache.h"
+
+typedef struct vbl_vbl_store {
+    vbl_vbl_settings settings;
+    vbl_photon_store photons;
+    double g_camera; /* HG g the sampler uses at camera points (any value is unbiased) */
+    double radius;   /* R_p of this pass */
+} vbl_vbl_store;
+
+void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings* out)
+{
+    vbl_vbl_settings d = VBL_VBL_SETTINGS_DEFAULT;
+    *out = d;
+    if (o->vbl_radius0 > 0.0) out->radius0 = o->vbl_radius0;
+    if (o->vbl_alpha > 0.0) out->alpha = o->vbl_alpha;
+    if (o->vrl_samples > 0) out->samples = o->vrl_samples;
+    out->long_vrls = o->vrl_long != 0;
+}
+
+/* R_0 when none is given: radius_schedule.h's k sqrt(V / L) over the cube inscribed in the media's
+ * bounding sphere (half side r / sqrt(3)) and this pass's total VRL length. */
+static double vbl_vbl_default_r0(const vbl_scene* scene, const vbl_photon_store* photons)
+{
+    vbl_vec3 c;
+    double r = 0.0;
+    if (!vbl_media_bounding_sphere(scene, &c, &r) || !(r > 0.0)) return 0.0;
+    double h = r / sqrt(3.0), L = 0.0;
+    for (size_t j = 0; j < photons->vrl_count; ++j) L += photons->vrls[j].length;
+    return vbl_radius_default_r0(vbl_v3(c.x - h, c.y - h, c.z - h), vbl_v3(c.x + h, c.y + h, c.z + h), L, 0.0);
+}
+
+vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_settings* settings, void** store)
+{
+    *store = NULL;
+    const vbl_scene* scene = ctx->scene;
+    if (settings->samples < 1 || settings->kernel_samples < 1)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl samples = %d and kernel samples = %d must be >= 1",
+                         scene->path, settings->samples, settings->kernel_samples);
+    if (!(settings->alpha > 0.0 && settings->alpha <= 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl alpha = %g is outside (0, 1]", scene->path,
+                         settings->alpha);
+    if (!(settings->radius0 <= 0.0 || isfinite(settings->radius0)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl radius0 = %g is not finite", scene->path,
+                         settings->radius0);
+    vbl_vbl_store* s = calloc(1, sizeof *s);
+    if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vbl store)", scene->path);
+    s->settings = *settings;
+    double w = 0.0, g = 0.0;
+    for (int i = 0; i < scene->media_count; ++i) {
+        const vbl_medium* m = &scene->media[i];
+        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
+        w += wi;
+        g += wi * m->g;
+    }
+    s->g_camera = w > 0.0 ? g / w : 0.0;
+    vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+    if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
+    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    if (r) {
+        free(s);
+        return r;
+    }
+    double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_vbl_default_r0(scene, &s->photons);
+    s->radius = vbl_radius_at_pass(r0, settings->alpha, 2, ctx->pass);
+    *store = s;
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_vbl_pass_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vbl_settings settings;
+    vbl_vbl_settings_from_options(&ctx->options, &settings);
+    return vbl_vbl_pass_begin_with(ctx, &settings, store);
+}
+
+void vbl_vbl_pass_end(const vbl_render_context* ctx, void* store)
+{
+    (void)ctx;
+    vbl_vbl_store* s = store;
+    if (!s) return;
+    vbl_photon_store_free(&s->photons);
+    free(s);
+}
+
+double vbl_vbl_store_radius(const void* store)
+{
+    return store ? ((const vbl_vbl_store*)store)->radius : 0.0;
+}
+
+/* eq (10)'s sum_ij sigma_s,i(u) sigma_s,j(v) K_R(g_i, g_j) over media components (RGB). One
+ * lattice jitter for all pairs; pairs with equal g share one kernel evaluation. */
+static vbl_vec3 vbl_vbl_kernel_sum(const vbl_scene* scene, const double* comps_u, const double* comps_v, vbl_vec3 xu,
+                                   vbl_vec3 d, vbl_vec3 xv, vbl_vec3 ld, double radius, int n, double j1, double j2)
+{
+    vbl_vec3 su[VBL_MAX_MEDIA], sv[VBL_MAX_MEDIA], acc = vbl_v3(0.0, 0.0, 0.0);
+    for (int i = 0; i < scene->media_count; ++i) {
+        su[i] = comps_u[i] > 0.0 ? vbl_v3_scale(scene->media[i].albedo, comps_u[i]) : vbl_v3(0.0, 0.0, 0.0);
+        sv[i] = comps_v[i] > 0.0 ? vbl_v3_scale(scene->media[i].albedo, comps_v[i]) : vbl_v3(0.0, 0.0, 0.0);
+    }
+    for (int i = 0; i < scene->media_count; ++i) {
+        if (!(vbl_v3_max_component(su[i]) > 0.0)) continue;
+        for (int j = 0; j < scene->media_count; ++j) {
+            if (!(vbl_v3_max_component(sv[j]) > 0.0)) continue;
+            double k = vbl_vsl_kernel(xu, d, scene->media[i].g, xv, ld, scene->media[j].g, radius, n, j1, j2);
+            if (k > 0.0) acc = vbl_v3_madd(acc, vbl_v3_mul(su[i], sv[j]), k);
+        }
+    }
+    return acc;
+}
+
+void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_vbl_store* s = store;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_vec3 o = sample->origin, d = sample->direction;
+    const int M = ctx->options.max_bounces;
+    vbl_add_visible_emission(ctx, ts, o, d, rng, out);
+    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (!s || s->photons.vrl_count == 0 || !(s->radius > 0.0)) return;
+
+    vbl_transmittance_cache cache;
+    double u0, u1;
+    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    const int S = s->settings.samples, n = s->settings.kernel_samples;
+    const double R = s->radius;
+    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+        const vbl_vrl* l = &s->photons.vrls[j];
+        if (M >= 0 && l->bounce + 2 > M) continue;
+        vbl_vbl_pair pair;
+        if (!vbl_vbl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g, R))
+            continue;
+        for (int k = 0; k < S; ++k) {
+            double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+            double j1 = vbl_rng_uniform(rng), j2 = vbl_rng_uniform(rng);
+            vbl_vbl_pair_sample ps;
+            if (!vbl_vbl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
+            vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
+            double Tc = vbl_transmittance_cache_eval(&cache, ps.u);
+            if (!(Tc > 0.0)) continue;
+            double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+            if (!(Tl > 0.0)) continue;
+            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
+            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
+            vbl_vec3 f = vbl_vbl_kernel_sum(scene, comps_u, comps_v, xu, d, xv, l->direction, R, n, j1, j2);
+            f = vbl_v3_mul(f, l->power);
+            if (!(vbl_v3_max_component(f) > 0.0)) continue;
+            /* T along the connecting segment VSL centre -> camera point (w = 0: nothing to cross) */
+            vbl_vec3 to = vbl_v3_sub(xu, xv);
+            double w = vbl_v3_length(to), Tw = 1.0, t0, t1;
+            if (w > 0.0) {
+                vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w);
+                if (vbl_extinction_ray_bounds(ctx->extinction, xv, omega, 0.0, w, &t0, &t1) && t1 > t0)
+                    Tw = vbl_transmittance_estimate(ctx->extinction, &ts->cursor, xv, omega, t0, t1, &ctx->tracking,
+                                                    rng);
+            }
+            if (!(Tw > 0.0)) continue;
+            acc = vbl_v3_madd(acc, f, Tc * Tl * Tw / (S * ps.pdf));
+        }
+    }
+    out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
+}
+
+const vbl_estimator vbl_estimator_vbl = {"vbl", 1, vbl_vbl_pass_begin, vbl_vbl_camera_sample, vbl_vbl_pass_end};

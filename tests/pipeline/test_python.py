@@ -1,0 +1,210 @@
+"""The Python binding (plugins/python/vbl) end to end through the shared library: struct layouts
+against the C compiler's (abi_sizes), volumes (info, transmittance against the closed form of
+box.vdb), scenes (render options, overrides), renders (layers sum to beauty, finite) and errors.
+Run by ctest with PYTHONPATH, VBL_LIBRARY, VBL_FIXTURE_DIR and VBL_ABI_SIZES set; exits 77
+(skipped) without numpy."""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+try:
+    import numpy
+except ImportError:
+    print("test_python: SKIPPED: numpy is not installed (apt-get install python3-numpy)")
+    sys.exit(77)
+
+import vbl
+
+FIXTURES = os.environ.get("VBL_FIXTURE_DIR", ".")
+BOX = os.path.join(FIXTURES, "box.vdb")
+
+
+def write_scene(folder, name="scene.json", **changes):
+    """A 16x12 pt scene of box.vdb (density 0.5 on [0, 1.6]^3 world units)."""
+    scene = {
+        "camera": {"position": [0.75, -3.0, 0.75], "look_at": [0.75, 0.75, 0.75], "fov_deg": 40,
+                   "resolution": [16, 12]},
+        "lights": [{"type": "distant", "direction": [-0.3, 0.5, -0.8], "irradiance": [2.0, 1.8, 1.5]},
+                   {"type": "environment", "radiance": [0.10, 0.12, 0.20]}],
+        "media": [{"vdb": BOX, "density_scale": 3.0, "albedo": [0.9, 0.8, 0.7],
+                   "phase": {"type": "hg", "g": 0.3}}],
+        "render": {"method": "pt", "passes": 2, "spp": 1, "seed": 3, "max_bounces": 3},
+    }
+    for key, value in changes.items():
+        scene[key] = value
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+class TestLayout(unittest.TestCase):
+    def test_struct_sizes_and_offsets_match_c(self):
+        helper = os.environ.get("VBL_ABI_SIZES")
+        if not helper:
+            self.skipTest("VBL_ABI_SIZES not set")
+        structs = {"vbl_volume_load_options": vbl._VolumeLoadOptions, "vbl_volume_info": vbl._VolumeInfo,
+                   "vbl_transmittance_options": vbl._TransmittanceOptions,
+                   "vbl_transmittance_result": vbl._TransmittanceResult,
+                   "vbl_scene_load_options": vbl._SceneLoadOptions, "vbl_render_progress": vbl._RenderProgress,
+                   "vbl_render_options": vbl._RenderOptions, "vbl_film_stats": vbl._FilmStats}
+        lines = subprocess.run([helper], check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
+        checked = 0
+        for line in lines.split("\n"):
+            if not line.strip():
+                continue
+            name, value = line.split()
+            if "." in name:
+                struct, field = name.split(".")
+                self.assertEqual(getattr(structs[struct], field).offset, int(value), name)
+            else:
+                self.assertEqual(vbl.STRUCT_SIZES[name], int(value), name)
+            checked += 1
+        self.assertGreater(checked, 20)
+        # Every field of vbl_render_options was checked (fields appended later must be mirrored).
+        fields = [n for n, _ in vbl._RenderOptions._fields_ if n != "size"]
+        for field in fields:
+            self.assertIn("vbl_render_options.%s " % field, lines)
+
+
+class TestVolume(unittest.TestCase):
+    def test_version(self):
+        self.assertRegex(vbl.version(), r"^\d+\.\d+\.\d+")
+
+    def test_info(self):
+        volume = vbl.Volume(BOX)
+        info = volume.info
+        self.assertEqual(info["grid_name"], "density")
+        self.assertEqual(info["active_voxels"], 16 ** 3)
+        self.assertEqual(info["index_bbox_min"], [0, 0, 0])
+        self.assertEqual(info["index_bbox_max"], [15, 15, 15])
+        for v in info["voxel_size"]:
+            self.assertAlmostEqual(v, 0.1, places=9)
+        self.assertAlmostEqual(info["value_mean"], 0.5, places=6)
+        self.assertTrue(info["file_path"].endswith("box.vdb"))
+        self.assertAlmostEqual(volume.sample([0.75, 0.75, 0.75]), 0.5, places=6)
+
+    def test_transmittance_closed_form(self):
+        # Inside the box (index 1..14 on x at the centre) the trilinear density is exactly 0.5:
+        # T = exp(-density_scale * 0.5 * length).
+        volume = vbl.Volume(BOX)
+        length = 1.3
+        expected = math.exp(-2.0 * 0.5 * length)
+        result = volume.transmittance([0.1, 0.75, 0.75], [1, 0, 0], 0.0, length, estimator="ratio",
+                                      density_scale=2.0, samples=256, seed=7)
+        self.assertGreater(result.lookups, 0)
+        self.assertLess(abs(result.mean - expected), 4.0 * result.std_error + 1e-9,
+                        "%r vs %g" % (result, expected))
+        march = volume.transmittance([0.1, 0.75, 0.75], [1, 0, 0], 0.0, length, estimator="march",
+                                     density_scale=2.0, samples=1)
+        self.assertAlmostEqual(march.mean, expected, places=3)
+
+    def test_errors(self):
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Volume(os.path.join(FIXTURES, "does_not_exist.vdb"))
+        self.assertEqual(raised.exception.result, "VBL_ERROR_FILE_NOT_FOUND")
+        self.assertIn("does_not_exist.vdb", raised.exception.message)
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Volume(BOX, grid="nope")
+        self.assertEqual(raised.exception.result, "VBL_ERROR_GRID_NOT_FOUND")
+        with self.assertRaises(vbl.VblError):
+            vbl.Volume(BOX).transmittance([0, 0, 0], [1, 0, 0], 0, 1, estimator="bogus")
+
+
+class TestRender(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vbl_python_")
+        cls.scene_path = write_scene(cls.tmp.name)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_render_options(self):
+        scene = vbl.Scene(self.scene_path)
+        self.assertEqual(scene.resolution, (16, 12))
+        self.assertEqual(scene.medium_count, 1)
+        options = scene.render_options()
+        self.assertEqual(options["method"], "pt")
+        self.assertEqual(options["passes"], 2)
+        self.assertEqual(options["spp"], 1)
+        self.assertEqual(options["seed"], 3)
+        self.assertEqual(options["max_bounces"], 3)
+        self.assertEqual(options["transmittance"], "ratio")
+        self.assertEqual(set(options), set(vbl.RENDER_OPTION_FIELDS))
+
+    def test_render_layers_sum_to_beauty(self):
+        scene = vbl.Scene(self.scene_path)
+        film = vbl.render(scene, threads=2)
+        self.assertEqual((film.width, film.height), (16, 12))
+        self.assertIn("", film.layers)
+        beauty = film.layer("")
+        self.assertEqual(beauty.dtype, numpy.float32)
+        self.assertEqual(beauty.shape[:2], (12, 16))
+        self.assertTrue(numpy.all(numpy.isfinite(beauty)))
+        transport = [n for n in ("emission", "volume_direct", "volume_from_volume") if n in film.layers]
+        self.assertTrue(transport, film.layers)
+        total = numpy.zeros((12, 16, 3), dtype=numpy.float32)
+        for name in transport:  # the documented order: the sum is exact in float
+            layer = film.layer(name)
+            self.assertEqual(layer.shape, (12, 16, 3))
+            self.assertTrue(numpy.all(numpy.isfinite(layer)))
+            total = total + layer
+        self.assertGreater(float(beauty[..., :3].sum()), 0.0)
+        numpy.testing.assert_allclose(total, beauty[..., :3], rtol=1e-5, atol=1e-6)
+        stats = film.stats
+        self.assertEqual(stats["method"], "pt")
+        self.assertEqual(stats["passes"], 2)
+        with self.assertRaises(vbl.VblError):
+            film.layer("no_such_layer")
+        # The copy outlives the film.
+        del film
+        self.assertTrue(numpy.all(numpy.isfinite(beauty)))
+
+    def test_overrides_change_stats(self):
+        scene = vbl.Scene(self.scene_path)
+        film = vbl.render(scene, passes=3, spp=2, seed=11, threads=1)
+        stats = film.stats
+        self.assertEqual(stats["passes"], 3)
+        self.assertEqual(stats["spp"], 2)
+        self.assertEqual(stats["seed"], 11)
+        seen = []
+        film = vbl.render(scene, passes=3, callback=lambda p: seen.append(p["pass"]) or p["pass"] >= 1)
+        self.assertEqual(seen, [1])
+        self.assertEqual(film.stats["passes"], 1)
+        self.assertEqual(film.stats["cancelled"], 1)
+        with self.assertRaises(vbl.VblError):
+            vbl.render(scene, method="bogus")
+        with self.assertRaises(vbl.VblError):
+            vbl.render(scene, not_an_option=1)
+
+    def test_vdb_overrides(self):
+        scene = vbl.Scene(self.scene_path, vdb_overrides=[os.path.join(FIXTURES, "box.nvdb")])
+        self.assertTrue(scene.medium_path(0).endswith("box.nvdb"))
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Scene(self.scene_path, vdb_overrides=[os.path.join(self.tmp.name, "missing.vdb")])
+        self.assertIn("missing.vdb", raised.exception.message)
+
+    def test_bad_scene_names_field(self):
+        media = [{"vdb": BOX, "density_scale": 3.0, "albedo": [0.9, 0.8, 0.7],
+                  "phase": {"type": "hg", "g": 1.2}}]
+        path = write_scene(self.tmp.name, "bad.json", media=media)
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Scene(path)
+        self.assertEqual(raised.exception.result, "VBL_ERROR_SCENE")
+        self.assertIn("media[0].phase.g", raised.exception.message)
+        self.assertIn("bad.json", raised.exception.message)
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    failed = len(result.failures) + len(result.errors)
+    skipped = len(result.skipped)
+    print("%d passed, %d failed, %d skipped" % (result.testsRun - failed - skipped, failed, skipped))
+    sys.exit(1 if failed or not result.wasSuccessful() else 0)
