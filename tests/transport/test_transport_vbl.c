@@ -146,7 +146,6 @@ static void test_scene_block(void** state)
     expect_scene_error(dir, "{\"vbl\": {\"alpha\": 0}}", "render.vbl.alpha = 0 is outside (0, 1)");
     expect_scene_error(dir, "{\"vbl\": {\"radius0\": -2}}", "render.vbl.radius0 = -2 must be a finite number > 0");
     expect_scene_error(dir, "{\"vbl\": {\"radius\": 2}}", "unknown key 'render.vbl.radius'");
-    expect_scene_error(dir, "{\"method\": \"vbm\"}", "render.method = \"vbm\" is not one of pt, vpl, vrl, vbl");
     rt_remove_dir(dir);
 }
 
