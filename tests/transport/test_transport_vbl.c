@@ -3,7 +3,8 @@
  * Default group (quick): determinism at 1 vs 2 threads through the method registry; finite films at
  * the extremes (R0 = 1e-9 x and 10 x the scene, g = +-0.999, VRLs parallel to camera rays, camera
  * rays through the light); option validation; at a fixed radius (alpha = 1) and the same VRL count,
- * lower variance than `vrl` on a g = 0.9 scene whose VRLs cross the camera rays.
+ * lower variance than `vrl` on a g = 0.9 scene whose VRLs cross the camera rays; at a tiny fixed
+ * radius, agreement with `vrl` (the R -> 0 limit) within standard errors.
  *
  * Argument "converge" (label `slow`): with the radius shrinking per pass (eq 11, R0 = 1.2 on a 2.25 box,
  * alpha = 0.7, 16 VRL paths per pass, 6 seeds per point), the RMS error of
@@ -245,6 +246,33 @@ static void test_variance_vs_vrl(void** state)
     vt_free(vol);
 }
 
+/* ---- small fixed radius: the VRL limit ------------------------------------------------- */
+
+/* At R = 1e-3 x the box the VSL kernel is the VRL integrand up to O((R / w)^2): the block means of
+ * both layers must agree with `vrl` (unbiased, tested against pt) within their standard errors. */
+static void test_small_radius_matches_vrl(void** state)
+{
+    (void)state;
+    vbl_volume* vol;
+    vbl_scene* s = box_scene(vbl_v3(0.2, -4, 0.3), vbl_v3(0.125, 0.125, 0.125), 1.0, 0.9, 0.5, &vol, 8);
+    tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
+    vbl_vbl_settings fixed = VBL_VBL_SETTINGS_DEFAULT;
+    fixed.alpha = 1.0;
+    fixed.radius0 = 1e-3 * 2.25;
+    g_fixed = fixed;
+    vbl_render_options o = tt_options(2, 1, 40, 900);
+    tt_stats a, b;
+    tt_replicate(s, &fixed_vbl, &o, 8, 4, &a);
+    o.seed = 1900;
+    tt_replicate(s, &vbl_estimator_vrl, &o, 8, 4, &b);
+    assert_true(a.finite && b.finite);
+    double image_z, z = tt_compare(&a, &b, 1.0, &image_z, "vbl R->0 vs vrl");
+    assert_true(a.image_mean[1] > 0.0);
+    assert_true(z < 4.5 && image_z < 3.5);
+    vbl_scene_release(s);
+    vt_free(vol);
+}
+
 /* ---- convergence to pt as the radius shrinks ------------------------------------------ */
 
 enum { CV_RES = 8, CV_NP = CV_RES * CV_RES, CV_K = 6 };
@@ -339,6 +367,7 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_scene_block),
         cmocka_unit_test(test_extremes),
         cmocka_unit_test(test_variance_vs_vrl),
+        cmocka_unit_test(test_small_radius_matches_vrl),
     };
     const struct CMUnitTest converge[] = {cmocka_unit_test(test_convergence)};
     if (argc > 1 && strcmp(argv[1], "converge") == 0) return cmocka_run_group_tests(converge, NULL, NULL);
