@@ -18,7 +18,7 @@ int vbl_cmd_render(int argc, char** argv)
     vbl_render_options options = VBL_RENDER_OPTIONS_DEFAULT;
     vbl_render_method method = VBL_RENDER_PT;
     if (args.method && vbl_render_method_parse(args.method, &method)) {
-        fprintf(stderr, "vbl render: --method '%s' is not one of pt, vpl, vrl\n", args.method);
+        fprintf(stderr, "vbl render: --method '%s' is not one of pt, vpl, vrl, vbl\n", args.method);
         return VBL_EXIT_USAGE;
     }
     vbl_transmittance_estimator estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;

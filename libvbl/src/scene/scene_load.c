@@ -351,7 +351,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
     const char* s = NULL;
     if ((r = vbl_json_string(ctx, obj, "render", "method", 0, &s))) return r;
     if (s && vbl_render_method_parse(s, &o->method))
-        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl", s);
+        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl, vbl", s);
     double v = o->passes;
     if ((r = vbl_json_int(ctx, obj, "render", "passes", 0, 1, 1e9, &v))) return r;
     o->passes = (int)v;
