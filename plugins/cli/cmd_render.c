@@ -35,9 +35,12 @@ int vbl_cmd_render(int argc, char** argv)
     vbl_scene_load_options load = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
     load.vdb_overrides = args.vdb;
     load.vdb_override_count = args.vdb_count;
+    vbl_render_output_scene_load_options(output, &load);
     vbl_scene* scene = NULL;
     r = vbl_scene_load_ex(args.scene_path, &load, &scene);
+    if (!r) r = vbl_render_output_check_scene(output, scene);
     if (r) {
+        vbl_scene_release(scene);
         vbl_render_output_destroy(output);
         return vbl_cli_fail(r);
     }

@@ -50,6 +50,11 @@ typedef struct vbl_render_output vbl_render_output;
  * output colour space (its conversion matrix from scene_linear and its chromaticities). */
 vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_output** out);
 void vbl_render_output_destroy(vbl_render_output* output);
+/* Sets load->convert_color so that a scene's "color_space" colours are converted to the
+ * config's scene_linear space (the film's) through OCIO (docs/readme/render.md). */
+void vbl_render_output_scene_load_options(vbl_render_output* output, vbl_scene_load_options* load);
+/* Fails (VBL_ERROR_SCENE) when the loaded scene's color_space is not in the config. */
+vbl_result vbl_render_output_check_scene(const vbl_render_output* output, const vbl_scene* scene);
 
 /* Writes the EXR (`status`: "complete", "checkpoint", "interrupted", "time_limit") with the
  * options actually used and the wall-clock seconds since the command started. */

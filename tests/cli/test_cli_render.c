@@ -257,6 +257,74 @@ static void test_output_space(void** state)
     vbl_exr_image_release(img);
     vbl_exr_image_release(ref);
 }
+
+/* A scene in ACEScg ("color_space") renders like the same scene with its colours converted to
+ * Linear Rec.709 (the config's scene_linear) beforehand; an unknown space fails like other scene
+ * errors (exit 3), naming the file and color_space. */
+static void test_scene_color_space(void** state)
+{
+    (void)state;
+    vbl_color_config* config = NULL;
+    assert_int_equal(vbl_color_config_open(NULL, &config), VBL_SUCCESS);
+    float irradiance[3] = {2.0f, 1.8f, 1.5f}, radiance[3] = {0.10f, 0.12f, 0.20f}, albedo[3] = {0.9f, 0.8f, 0.7f};
+    float* colors[3] = {irradiance, radiance, albedo};
+    for (int i = 0; i < 3; ++i)
+        assert_int_equal(vbl_color_convert_rgb(config, "ACEScg", "scene_linear", colors[i]), VBL_SUCCESS);
+    vbl_color_config_release(config);
+    char text[4096];
+    snprintf(text, sizeof text,
+             "{\n"
+             "  \"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40,\n"
+             "             \"resolution\": [%d, %d]},\n"
+             "  \"lights\": [{\"type\": \"distant\", \"direction\": [-0.3, 0.5, -0.8], \"irradiance\": [%.9g, %.9g, %.9g]},\n"
+             "             {\"type\": \"environment\", \"radiance\": [%.9g, %.9g, %.9g]}],\n"
+             "  \"media\": [{\"vdb\": \"%s\", \"density_scale\": 3.0, \"albedo\": [%.9g, %.9g, %.9g],\n"
+             "              \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],\n"
+             "  \"render\": {\"method\": \"pt\", \"passes\": 2, \"spp\": 2, \"seed\": 3, \"max_bounces\": 4}\n"
+             "}\n",
+             W, H, irradiance[0], irradiance[1], irradiance[2], radiance[0], radiance[1], radiance[2],
+             ct_fixture("box.vdb"), albedo[0], albedo[1], albedo[2]);
+    const char* rec709_scene = ct_path(dir, "rec709_scene.json");
+    ct_write_file(rec709_scene, text);
+    const char* aces_scene = ct_path(dir, "acescg_scene.json");
+    ct_write_scene(aces_scene, W, H, "  \"color_space\": \"ACEScg\",\n");
+
+    char args[4096];
+    char* log = NULL;
+    const char* names[2] = {"cs_rec709.exr", "cs_acescg.exr"};
+    const char* scenes[2] = {rec709_scene, aces_scene};
+    vbl_exr_image* img[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k) {
+        const char* out = ct_path(dir, names[k]);
+        snprintf(args, sizeof args, "'%s' -o '%s' -q", scenes[k], out);
+        int code = ct_render(args, &log);
+        if (code != 0) fail_msg("vbl render %s -> %d:\n%s", args, code, log ? log : "");
+        free(log);
+        log = NULL;
+        if (vbl_exr_read(out, &img[k]) != VBL_SUCCESS) fail_msg("%s", vbl_last_error_message());
+    }
+    static const char* const rgb[3] = {"R", "G", "B"};
+    double peak = 0.0;
+    for (int i = 0; i < W * H; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float want = channel(img[0], rgb[c])[i], got = channel(img[1], rgb[c])[i];
+            if (fabsf(got - want) > 1e-4f * fabsf(want) + 1e-7f)
+                fail_msg("pixel %d %s: %g vs %g", i, rgb[c], got, want);
+            if (want > peak) peak = want;
+        }
+    assert_true(peak > 0.0); /* the comparison saw light */
+    vbl_exr_image_release(img[0]);
+    vbl_exr_image_release(img[1]);
+
+    const char* bad_scene = ct_path(dir, "bad_space.json");
+    ct_write_scene(bad_scene, W, H, "  \"color_space\": \"NoSuchSpace\",\n");
+    snprintf(args, sizeof args, "'%s' -o '%s' -q", bad_scene, ct_path(dir, "bad_space.exr"));
+    assert_int_equal(ct_render(args, &log), 3);
+    char expected[2048];
+    snprintf(expected, sizeof expected, "%s: color_space = \"NoSuchSpace\" (lights[0].irradiance): ", bad_scene);
+    if (!log || !strstr(log, expected)) fail_msg("want '%s' in:\n%s", expected, log ? log : "");
+    free(log);
+}
 #endif
 
 int main(void)
@@ -266,6 +334,7 @@ int main(void)
         cmocka_unit_test(test_storage_options),
 #ifdef VBL_TEST_HAVE_COLOR
         cmocka_unit_test(test_output_space),
+        cmocka_unit_test(test_scene_color_space),
 #endif
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -31,9 +31,21 @@ typedef struct vbl_scene_load_options {
      * Override paths are used as given (relative to the working directory). */
     const char* const* vdb_overrides;
     int vdb_override_count;
+    /* Scene colours in a named input space. When the scene has a top-level "color_space", this
+     * is called at load for every light colour (intensity / irradiance / radiance) and every
+     * medium albedo, before their range checks, with the scene's colour space name, the field
+     * ("lights[0].intensity", "media[1].albedo") and the RGB as written; it converts `rgb` in
+     * place into the caller's scene_linear space (libvbl itself has no colour management; the
+     * `vbl` command converts through OpenColorIO). A non-success result fails the load with that
+     * result and the message "<file>: color_space = \"X\" (<field>): <callback's message>".
+     * A scene naming a color_space loaded without a callback fails with VBL_ERROR_SCENE.
+     * A converted albedo outside [0, 1] fails the load (VBL_ERROR_SCENE), naming the field and
+     * the converted value; it is never clamped. */
+    vbl_result (*convert_color)(void* user, const char* color_space, const char* field, double rgb[3]);
+    void* convert_color_user;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
@@ -51,6 +63,9 @@ VBL_API int vbl_scene_light_count(const vbl_scene* scene);
 VBL_API int vbl_scene_medium_count(const vbl_scene* scene);
 /* The resolved VDB path of media[index] (NULL if out of range). */
 VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
+/* The scene's top-level "color_space" as written (its colours were converted from it at load),
+ * or NULL when the scene names none (colours are already scene_linear). */
+VBL_API const char* vbl_scene_color_space(const vbl_scene* scene);
 
 /* ---- render options -------------------------------------------------------------------- */
 

@@ -30,6 +30,11 @@ void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height)
 int vbl_scene_light_count(const vbl_scene* scene) { return scene ? scene->light_count : 0; }
 int vbl_scene_medium_count(const vbl_scene* scene) { return scene ? scene->media_count : 0; }
 
+const char* vbl_scene_color_space(const vbl_scene* scene)
+{
+    return scene && scene->color_space[0] ? scene->color_space : NULL;
+}
+
 const char* vbl_scene_medium_path(const vbl_scene* scene, int index)
 {
     if (!scene || index < 0 || index >= scene->media_count) return NULL;

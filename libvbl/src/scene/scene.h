@@ -50,6 +50,7 @@ typedef struct vbl_medium {
 struct vbl_scene {
     int refcount;
     char path[1024];
+    char color_space[256]; /* top-level "color_space" as written; "" when absent */
     vbl_camera camera;
     vbl_light lights[VBL_MAX_LIGHTS];
     int light_count;

@@ -1,6 +1,8 @@
 /* Scene file loader: JSON (cJSON) -> vbl_scene. Schema in docs/readme/render.md. */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +62,44 @@ static void vbl_path_dir(const char* path, char* out, size_t size)
     out[n] = '\0';
 }
 
+/* Scene colours in a named input space (top-level "color_space"), converted to scene_linear by
+ * the caller's callback (vbl_scene_load_options.convert_color). `space` NULL: no conversion. */
+typedef struct vbl_scene_colors {
+    const char* space;
+    vbl_result (*convert)(void* user, const char* color_space, const char* field, double rgb[3]);
+    void* user;
+} vbl_scene_colors;
+
+/* A colour `key` of `obj` (vbl_json_rgb), converted from colors->space when the scene names one;
+ * the range [min, max] applies to the converted (scene_linear) value. Keeps *out when absent. */
+static vbl_result vbl_parse_color(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
+                                  const char* parent_field, const char* key, int required, double min, double max,
+                                  vbl_vec3* out)
+{
+    if (!colors || !colors->space) return vbl_json_rgb(ctx, obj, parent_field, key, required, min, max, out);
+    vbl_vec3 v = *out;
+    vbl_result r = vbl_json_rgb(ctx, obj, parent_field, key, required, -DBL_MAX, DBL_MAX, &v);
+    if (r) return r;
+    if (!cJSON_GetObjectItemCaseSensitive(obj, key)) return VBL_SUCCESS;
+    char field[512];
+    vbl_json_field(field, sizeof field, parent_field, key);
+    double rgb[3] = {v.x, v.y, v.z};
+    vbl_clear_error();
+    r = colors->convert(colors->user, colors->space, field, rgb);
+    if (r) {
+        char inner[1024];
+        const char* msg = vbl_last_error_message();
+        snprintf(inner, sizeof inner, "%s", msg && msg[0] ? msg : vbl_result_name(r));
+        return vbl_error(r, "%s: color_space = \"%s\" (%s): %s", ctx->path, colors->space, field, inner);
+    }
+    for (int i = 0; i < 3; ++i)
+        if (!(isfinite(rgb[i]) && rgb[i] >= min && rgb[i] <= max))
+            return vbl_json_fail(ctx, "%s converts to [%g, %g, %g] in scene_linear: outside [%g, %g]", field, rgb[0],
+                                 rgb[1], rgb[2], min, max);
+    *out = vbl_v3(rgb[0], rgb[1], rgb[2]);
+    return VBL_SUCCESS;
+}
+
 static vbl_result vbl_parse_camera(const vbl_json_ctx* ctx, const cJSON* root, vbl_camera* cam)
 {
     static const char* const keys[] = {"position", "look_at", "up", "fov_deg", "resolution", NULL};
@@ -94,7 +134,8 @@ static vbl_result vbl_parse_camera(const vbl_json_ctx* ctx, const cJSON* root, v
     return VBL_SUCCESS;
 }
 
-static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, vbl_light* light)
+static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
+                                  const char* field, vbl_light* light)
 {
     static const char* const point_keys[] = {"type", "position", "intensity", NULL};
     static const char* const spot_keys[] = {"type", "position", "direction", "intensity",
@@ -112,7 +153,7 @@ static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const cJSON* obj, con
         light->type = spot ? VBL_LIGHT_SPOT : VBL_LIGHT_POINT;
         if ((r = vbl_json_check_keys(ctx, obj, field, spot ? spot_keys : point_keys))) return r;
         if ((r = vbl_json_vec3(ctx, obj, field, "position", 1, &light->position))) return r;
-        if ((r = vbl_json_rgb(ctx, obj, field, "intensity", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        if ((r = vbl_parse_color(ctx, colors, obj, field, "intensity", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
         if (spot) {
             vbl_vec3 dir;
             double inner = 0.0, outer = 0.0;
@@ -137,14 +178,14 @@ static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const cJSON* obj, con
         if ((r = vbl_json_vec3(ctx, obj, field, "direction", 1, &dir))) return r;
         if (!(vbl_v3_length(dir) > 0.0)) return vbl_json_fail(ctx, "%s.direction is zero", field);
         light->direction = vbl_v3_normalize(dir);
-        if ((r = vbl_json_rgb(ctx, obj, field, "irradiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        if ((r = vbl_parse_color(ctx, colors, obj, field, "irradiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
     } else if (!strcmp(type, "quad")) {
         light->type = VBL_LIGHT_QUAD;
         if ((r = vbl_json_check_keys(ctx, obj, field, quad_keys))) return r;
         if ((r = vbl_json_vec3(ctx, obj, field, "corner", 1, &light->corner))) return r;
         if ((r = vbl_json_vec3(ctx, obj, field, "edge1", 1, &light->edge1))) return r;
         if ((r = vbl_json_vec3(ctx, obj, field, "edge2", 1, &light->edge2))) return r;
-        if ((r = vbl_json_rgb(ctx, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        if ((r = vbl_parse_color(ctx, colors, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
         vbl_vec3 n = vbl_v3_cross(light->edge1, light->edge2);
         light->area = vbl_v3_length(n);
         if (!(light->area > 0.0)) return vbl_json_fail(ctx, "%s: edge1 and edge2 span no area", field);
@@ -152,7 +193,7 @@ static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const cJSON* obj, con
     } else if (!strcmp(type, "environment")) {
         light->type = VBL_LIGHT_ENVIRONMENT;
         if ((r = vbl_json_check_keys(ctx, obj, field, env_keys))) return r;
-        if ((r = vbl_json_rgb(ctx, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
+        if ((r = vbl_parse_color(ctx, colors, obj, field, "radiance", 1, 0.0, VBL_COLOR_MAX, &light->color))) return r;
     } else {
         return vbl_json_fail(ctx, "%s.type = \"%s\" is not one of point, spot, distant, quad, environment", field,
                              type);
@@ -185,8 +226,8 @@ static vbl_result vbl_parse_transform(const vbl_json_ctx* ctx, const cJSON* item
     return VBL_SUCCESS;
 }
 
-static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
-                                   const char* vdb_override, vbl_medium* medium)
+static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
+                                   const char* field, const char* dir, const char* vdb_override, vbl_medium* medium)
 {
     static const char* const keys[] = {"vdb", "grid", "density_scale", "albedo", "phase", "transform", NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
@@ -202,7 +243,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const cJSON* obj, co
     if (medium->density_scale < 0.0)
         return vbl_json_fail(ctx, "%s.density_scale = %g is negative", field, medium->density_scale);
     medium->albedo = vbl_v3(1.0, 1.0, 1.0);
-    if ((r = vbl_json_rgb(ctx, obj, field, "albedo", 0, 0.0, 1.0, &medium->albedo))) return r;
+    if ((r = vbl_parse_color(ctx, colors, obj, field, "albedo", 0, 0.0, 1.0, &medium->albedo))) return r;
     medium->g = 0.0;
     const cJSON* phase = NULL;
     char phase_field[512];
@@ -389,11 +430,29 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
 
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
 {
-    static const char* const keys[] = {"camera", "lights", "media", "render", NULL};
+    static const char* const keys[] = {"camera", "lights", "media", "render", "color_space", NULL};
     vbl_json_ctx ctx = {scene->path};
     vbl_result r;
     if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
     if ((r = vbl_json_check_keys(&ctx, root, "", keys))) return r;
+
+    /* colours in a named input space: converted to scene_linear by the caller's callback */
+    vbl_scene_colors colors = {NULL, NULL, NULL};
+    const char* color_space = NULL;
+    if ((r = vbl_json_string(&ctx, root, "", "color_space", 0, &color_space))) return r;
+    if (color_space) {
+        if (!color_space[0]) return vbl_json_fail(&ctx, "color_space is empty");
+        if (strlen(color_space) >= sizeof scene->color_space)
+            return vbl_json_fail(&ctx, "color_space is too long (at most %d characters)",
+                                 (int)sizeof scene->color_space - 1);
+        if (!options || !options->convert_color)
+            return vbl_json_fail(&ctx, "color_space = \"%s\" needs a colour-managed loader (vbl render, or "
+                                       "vbl_scene_load_ex with convert_color)", color_space);
+        snprintf(scene->color_space, sizeof scene->color_space, "%s", color_space);
+        colors.space = scene->color_space;
+        colors.convert = options->convert_color;
+        colors.user = options->convert_color_user;
+    }
     if ((r = vbl_parse_camera(&ctx, root, &scene->camera))) return r;
 
     const cJSON* lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
@@ -405,7 +464,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
         for (const cJSON* l = lights->child; l; l = l->next, ++i) {
             char field[64];
             snprintf(field, sizeof field, "lights[%d]", i);
-            if ((r = vbl_parse_light(&ctx, l, field, &scene->lights[i]))) return r;
+            if ((r = vbl_parse_light(&ctx, &colors, l, field, &scene->lights[i]))) return r;
             if (vbl_v3_max_component(scene->lights[i].color) <= 0.0) continue; /* black lights do nothing */
             if (scene->lights[i].type == VBL_LIGHT_QUAD || scene->lights[i].type == VBL_LIGHT_ENVIRONMENT)
                 scene->has_visible_lights = 1;
@@ -430,7 +489,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             if (options && options->vdb_overrides && i < options->vdb_override_count)
                 override = options->vdb_overrides[i];
             scene->media_count = i + 1; /* so a failure releases what was loaded */
-            if ((r = vbl_parse_medium(&ctx, m, field, dir, override, &scene->media[i]))) return r;
+            if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, &scene->media[i]))) return r;
         }
         scene->media_count = i;
     }
@@ -455,8 +514,15 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
 vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options, vbl_scene** out_scene)
 {
     if (!path || !out_scene) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: NULL argument");
-    if (options && options->size < sizeof(vbl_scene_load_options))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: options.size is too small");
+    /* callers built before convert_color (a smaller struct) get no colour conversion */
+    vbl_scene_load_options copy = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+    if (options) {
+        if (options->size < offsetof(vbl_scene_load_options, convert_color))
+            return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: options.size is too small");
+        memcpy(&copy, options, options->size < sizeof copy ? options->size : sizeof copy);
+        copy.size = sizeof copy;
+        options = &copy;
+    }
     *out_scene = NULL;
     if (strlen(path) >= 1024) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_load: path too long");
     char* text = NULL;

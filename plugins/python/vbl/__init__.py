@@ -119,7 +119,11 @@ class _TransmittanceResult(ctypes.Structure):
 class _SceneLoadOptions(ctypes.Structure):
     _fields_ = [("size", ctypes.c_size_t),
                 ("vdb_overrides", ctypes.POINTER(ctypes.c_char_p)),
-                ("vdb_override_count", ctypes.c_int)]
+                ("vdb_override_count", ctypes.c_int),
+                # vbl_result (*convert_color)(void* user, const char* color_space, const char* field,
+                # double rgb[3]); left NULL here (a scene naming a color_space then fails to load)
+                ("convert_color", ctypes.c_void_p),
+                ("convert_color_user", ctypes.c_void_p)]
 
 
 class _RenderProgress(ctypes.Structure):
