@@ -9,6 +9,7 @@
 #include "transport/light_emission.h"
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
+#include "transport/vrl.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vbl_store {
@@ -160,13 +161,10 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
             if (!(vbl_v3_max_component(f) > 0.0)) continue;
             /* T along the connecting segment VSL centre -> camera point (w = 0: nothing to cross) */
             vbl_vec3 to = vbl_v3_sub(xu, xv);
-            double w = vbl_v3_length(to), Tw = 1.0, t0, t1;
-            if (w > 0.0) {
-                vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w);
-                if (vbl_extinction_ray_bounds(ctx->extinction, xv, omega, 0.0, w, &t0, &t1) && t1 > t0)
-                    Tw = vbl_transmittance_estimate(ctx->extinction, &ts->cursor, xv, omega, t0, t1, &ctx->tracking,
-                                                    rng);
-            }
+            double w = vbl_v3_length(to);
+            double Tw = w > 0.0 ? vbl_vrl_connect_transmittance(ctx, &ctx->tracking, ts, xv, vbl_v3_scale(to, 1.0 / w), w,
+                                                                rng)
+                                : 1.0;
             if (!(Tw > 0.0)) continue;
             acc = vbl_v3_madd(acc, f, Tc * Tl * Tw / (S * ps.pdf));
         }

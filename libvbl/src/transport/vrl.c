@@ -106,8 +106,7 @@ void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store)
     free(s);
 }
 
-/* One estimate of T between two points (the connecting segment), clipped to the media. */
-static double vbl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
+double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
                                         vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng)
 {
     double t0, t1;
@@ -169,7 +168,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
             vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
             vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
             if (!(vbl_v3_max_component(f) > 0.0)) continue;
-            double Tw = vbl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
+            double Tw = vbl_vrl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
             if (!(Tw > 0.0)) continue;
             acc = vbl_v3_madd(acc, f, Tc * Tl * Tw * weight / (w2 * ps.pdf));
         }

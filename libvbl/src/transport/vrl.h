@@ -49,6 +49,11 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
 void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store);
 
+/* One estimate of T along a + t dir, t in [0, len] (the segment connecting a virtual-light point
+ * and a camera-ray point), clipped to the media; 1 outside them. */
+double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
+                                     vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng);
+
 /* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);
 
