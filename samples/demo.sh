@@ -22,6 +22,6 @@ mkdir -p "$out"
 echo "== vbl info $cloud"
 "$vbl" info "$cloud"
 echo "== vbl render (vrl) -> $out/cloud.exr, $out/cloud.png"
-"$vbl" render "$here/cloud.json" --vdb "$cloud" --method vrl --passes 2 --spp 1 --light-paths 150 \
+"$vbl" render "$here/cloud.json" --vdb "$cloud" --method vrl --passes 6 --spp 1 --light-paths 200 \
   --aov all -o "$out/cloud.exr" --preview "$out/cloud.png"
 echo "demo: wrote $out/cloud.exr and $out/cloud.png"
