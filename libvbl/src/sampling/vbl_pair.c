@@ -6,6 +6,7 @@
 #include "sampling/cauchy.h"
 #include "sampling/phase_hg.h"
 #include "sampling/piecewise_linear.h"
+#include "sampling/vrl_pair.h"
 #include "sampling/vsl_cone.h"
 
 int vbl_vbl_pair_init(vbl_vbl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o,
@@ -29,16 +30,8 @@ int vbl_vbl_pair_init(vbl_vbl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, do
     }
     /* Same projection as the VRL sampler: distance of l(v0 + t) to the camera line is
      * sqrt(h^2 + (beta + s t)^2); stage 1 uses sqrt(h^2 + R^2 + (beta + s t)^2). */
-    vbl_vec3 r = vbl_v3_sub(vbl_v3_madd(l_o, l_d, v0), c_o);
-    vbl_vec3 p0 = vbl_v3_cross(c_d, vbl_v3_cross(r, c_d));
-    vbl_vec3 lxc = vbl_v3_cross(l_d, c_d);
-    double s = vbl_v3_length(lxc);
-    double beta = 0.0, h = vbl_v3_length(p0);
-    if (s > 0.0) {
-        vbl_vec3 qhat = vbl_v3_scale(vbl_v3_cross(c_d, lxc), 1.0 / s);
-        beta = vbl_v3_dot(p0, qhat);
-        h = vbl_v3_length(vbl_v3_cross(p0, qhat));
-    }
+    double beta, s, h;
+    vbl_vrl_line_projection(c_o, c_d, l_o, l_d, v0, &beta, &s, &h);
     p->valid = vbl_sinh_marginal_init(&p->marginal, beta, s, hypot(h, p->radius), v1 - v0);
     return p->valid;
 }

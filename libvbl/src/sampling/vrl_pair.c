@@ -8,6 +8,27 @@
 #include "sampling/phase_hg.h"
 #include "sampling/piecewise_linear.h"
 
+/* Project the VRL onto the plane perpendicular to the camera ray (cross products keep the
+ * perpendicular parts accurate for near-parallel lines):
+ *   P0 = perpendicular offset of the VRL start, q = perpendicular part of l_d, |q| = sin theta.
+ * The distance of l(v0 + t) to the camera line is |P0 + t q| = sqrt(h^2 + (beta + s t)^2),
+ * h the closest-approach distance of the lines, beta = P0 . q / s (eq 10's vhat0 sin theta). */
+void vbl_vrl_line_projection(vbl_vec3 c_o, vbl_vec3 c_d, vbl_vec3 l_o, vbl_vec3 l_d, double v0, double* beta,
+                             double* s, double* h)
+{
+    vbl_vec3 r = vbl_v3_sub(vbl_v3_madd(l_o, l_d, v0), c_o);
+    vbl_vec3 p0 = vbl_v3_cross(c_d, vbl_v3_cross(r, c_d));
+    vbl_vec3 lxc = vbl_v3_cross(l_d, c_d);
+    *s = vbl_v3_length(lxc);
+    *beta = 0.0;
+    *h = vbl_v3_length(p0);
+    if (*s > 0.0) {
+        vbl_vec3 qhat = vbl_v3_scale(vbl_v3_cross(c_d, lxc), 1.0 / *s);
+        *beta = vbl_v3_dot(p0, qhat);
+        *h = vbl_v3_length(vbl_v3_cross(p0, qhat));
+    }
+}
+
 int vbl_vrl_pair_init(vbl_vrl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o,
                       vbl_vec3 l_d, double v0, double v1, double g_camera, double g_light)
 {
@@ -27,21 +48,8 @@ int vbl_vrl_pair_init(vbl_vrl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, do
         vbl_sinh_marginal_init(&p->marginal, 0.0, 0.0, 0.0, 0.0);
         return 0;
     }
-    /* Project the VRL onto the plane perpendicular to the camera ray (cross products keep the
-     * perpendicular parts accurate for near-parallel lines):
-     *   P0 = perpendicular offset of the VRL start, q = perpendicular part of l_d, |q| = sin theta.
-     * The distance of l(v0 + t) to the camera line is |P0 + t q| = sqrt(h^2 + (beta + s t)^2),
-     * h the closest-approach distance of the lines, beta = P0 . q / s (eq 10's vhat0 sin theta). */
-    vbl_vec3 r = vbl_v3_sub(vbl_v3_madd(l_o, l_d, v0), c_o);
-    vbl_vec3 p0 = vbl_v3_cross(c_d, vbl_v3_cross(r, c_d));
-    vbl_vec3 lxc = vbl_v3_cross(l_d, c_d);
-    double s = vbl_v3_length(lxc);
-    double beta = 0.0, h = vbl_v3_length(p0);
-    if (s > 0.0) {
-        vbl_vec3 qhat = vbl_v3_scale(vbl_v3_cross(c_d, lxc), 1.0 / s);
-        beta = vbl_v3_dot(p0, qhat);
-        h = vbl_v3_length(vbl_v3_cross(p0, qhat));
-    }
+    double beta, s, h;
+    vbl_vrl_line_projection(c_o, c_d, l_o, l_d, v0, &beta, &s, &h);
     p->valid = vbl_sinh_marginal_init(&p->marginal, beta, s, h, v1 - v0);
     return p->valid;
 }

@@ -43,6 +43,11 @@ typedef struct vbl_vrl_pair {
     int valid;
 } vbl_vrl_pair;
 
+/* Camera line c_o + u c_d and VRL l_o + v l_d (unit directions): the distance of l(v0 + t) to the
+ * camera line is sqrt(h^2 + (beta + s t)^2), s = sin theta (eqs 10-13's geometry). */
+void vbl_vrl_line_projection(vbl_vec3 c_o, vbl_vec3 c_d, vbl_vec3 l_o, vbl_vec3 l_d, double v0, double* beta,
+                             double* s, double* h);
+
 /* Returns 1 if the pair has support (both segments of positive length), 0 otherwise. */
 int vbl_vrl_pair_init(vbl_vrl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o,
                       vbl_vec3 l_d, double v0, double v1, double g_camera, double g_light);
