@@ -40,7 +40,9 @@ int main(void)
     OFF(vbl_render_options, vpl_clamp_distance);
     OFF(vbl_render_options, vbl_radius0);
     OFF(vbl_render_options, vbl_alpha);
+    OFF(vbl_render_options, first_pass);
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
+    OFF(vbl_film_stats, first_pass);
     return 0;
 }

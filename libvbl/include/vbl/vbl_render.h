@@ -92,6 +92,8 @@ typedef struct vbl_render_progress {
     double elapsed_seconds; /* since vbl_render started */
     double pass_seconds;    /* the pass just finished */
     uint64_t samples_per_pixel; /* camera samples per pixel so far */
+    int first_pass;         /* options.first_pass: the absolute index of this render's first pass */
+    const void* driver;     /* opaque: for vbl_render_snapshot inside the callback */
 } vbl_render_progress;
 
 typedef int (*vbl_render_pass_callback)(const vbl_render_progress* progress, void* user_data);
@@ -123,12 +125,17 @@ typedef struct vbl_render_options {
     double vpl_clamp_distance;         /* >= 0 world units: 1/w^2 -> 1/max(w^2, c^2) (biased); 0: off */
     double vbl_radius0; /* world units; 0: default from scene scale and VRL density */
     double vbl_alpha;   /* (0,1); 0: 0.7 */
+    /* Split rendering (render farms): this render runs the absolute passes first_pass ..
+     * first_pass + passes - 1, with exactly the seeds (and, for vbl, the radii) a single render of
+     * first_pass + passes passes would use for them; films of disjoint pass ranges merge into
+     * the single render's film, weighted by pass count. */
+    int first_pass;     /* >= 0 */
 } vbl_render_options;
 
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */
@@ -167,6 +174,7 @@ typedef struct vbl_film_stats {
     double render_seconds;
     int cancelled;                /* 1: stopped by the callback */
     int time_limited;             /* 1: stopped by time_limit */
+    int first_pass;               /* absolute index of the first pass in this film */
 } vbl_film_stats;
 
 VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out);
@@ -179,6 +187,16 @@ VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
  * not built yet return VBL_ERROR_UNSUPPORTED. */
 VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options,
                               vbl_film** out_film);
+
+/* Inside the pass callback only: a film of the passes completed so far (what vbl_render would
+ * return if it stopped now), e.g. to write a checkpoint without stopping. Release it. */
+VBL_API vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film);
+
+/* Quality presets: "preview", "production", "final" set method, passes, light paths, spp,
+ * the vbl radius schedule (R0 factor, alpha) and estimators (docs/readme/beams.md lists the
+ * values and their measured error and time). Unknown names: VBL_ERROR_INVALID_ARGUMENT.
+ * Fields a preset does not mention are left as they are. */
+VBL_API vbl_result vbl_render_options_apply_preset(const char* preset, vbl_render_options* options);
 
 #ifdef __cplusplus
 }

@@ -7,8 +7,9 @@
 
 #include "core/error.h"
 
-static const char* const vbl_class_layer_names[VBL_CLASS_COUNT] = {"emission", "volume_direct",
-                                                                   "volume_from_volume"};
+static const char* const vbl_class_layer_names[VBL_CLASS_COUNT] = {
+    "emission",          "surface_direct",      "volume_direct",     "surface_from_surface",
+    "surface_from_volume", "volume_from_surface", "volume_from_volume"};
 
 void vbl_film_layout_for(const vbl_scene* scene, const vbl_render_options* options, vbl_film_layout* layout)
 {
@@ -18,6 +19,7 @@ void vbl_film_layout_for(const vbl_scene* scene, const vbl_render_options* optio
     layout->transport[VBL_CLASS_VOLUME_DIRECT] = lit_media && options->max_bounces != 0;
     layout->transport[VBL_CLASS_VOLUME_FROM_VOLUME] =
         lit_media && (options->max_bounces < 0 || options->max_bounces >= 2);
+    /* surface classes: set by the surface transports once the scene has surfaces */
     layout->depth = scene->media_count > 0;
 }
 

@@ -14,7 +14,7 @@ typedef struct vbl_pixel_accum {
     double samples;               /* camera samples */
 } vbl_pixel_accum;
 
-#define VBL_FILM_MAX_LAYERS 8
+#define VBL_FILM_MAX_LAYERS 12
 
 typedef struct vbl_film_layer_data {
     char name[32];

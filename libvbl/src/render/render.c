@@ -58,6 +58,10 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!(o->vbl_radius0 >= 0.0 && isfinite(o->vbl_radius0)))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_radius0 = %g must be finite and >= 0 (0: default)",
                          o->vbl_radius0);
+    if (o->first_pass < 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: first_pass = %d must be >= 0", o->first_pass);
+    if ((long long)o->first_pass + (long long)o->passes > 0x7fffffffLL)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: first_pass + passes overflows");
     if (!(o->vbl_alpha >= 0.0 && o->vbl_alpha < 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_alpha = %g is outside (0, 1) (0: default 0.7)",
                          o->vbl_alpha);
@@ -134,6 +138,43 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     }
 }
 
+/* What vbl_render_snapshot needs from inside the pass loop. */
+typedef struct vbl_render_driver {
+    const vbl_scene* scene;
+    const vbl_render_options* options;
+    const vbl_pixel_accum* accum;
+    int passes_done;
+    int threads;
+    double start;
+} vbl_render_driver;
+
+static void vbl_render_fill_stats(const vbl_render_driver* d, vbl_film_stats* stats)
+{
+    memset(stats, 0, sizeof *stats);
+    stats->size = sizeof *stats;
+    stats->method = d->options->method;
+    stats->passes = d->passes_done;
+    stats->spp = d->options->spp;
+    stats->light_paths = d->options->light_paths;
+    stats->seed = d->options->seed;
+    stats->threads = d->threads;
+    stats->render_seconds = omp_get_wtime() - d->start;
+    stats->first_pass = d->options->first_pass;
+}
+
+vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film)
+{
+    if (out_film) *out_film = NULL;
+    if (!progress || !out_film || !progress->driver)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render_snapshot: call it inside the pass callback");
+    const vbl_render_driver* d = progress->driver;
+    vbl_film_layout layout;
+    vbl_film_layout_for(d->scene, d->options, &layout);
+    vbl_film_stats stats;
+    vbl_render_fill_stats(d, &stats);
+    return vbl_film_build(d->accum, d->scene->camera.width, d->scene->camera.height, &layout, &stats, out_film);
+}
+
 vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options, vbl_film** out_film)
 {
     if (out_film) *out_film = NULL;
@@ -175,9 +216,10 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
     int passes_done = 0, cancelled = 0, time_limited = 0;
+    vbl_render_driver driver = {scene, options, accum, 0, ctx.threads, start};
     for (int pass = 0; pass < options->passes; ++pass) {
         double pass_start = omp_get_wtime();
-        ctx.pass = (uint32_t)pass;
+        ctx.pass = (uint32_t)(options->first_pass + pass); /* absolute pass: seeds and radii */
         void* store = NULL;
         if (est->pass_begin && (r = est->pass_begin(&ctx, &store))) {
             free(accum);
@@ -200,10 +242,12 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
         if (est->pass_end) est->pass_end(&ctx, store);
         passes_done = pass + 1;
+        driver.passes_done = passes_done;
         double now = omp_get_wtime();
         if (options->callback) {
             vbl_render_progress progress = {passes_done, options->passes, now - start, now - pass_start,
-                                            (uint64_t)passes_done * (uint64_t)options->spp};
+                                            (uint64_t)passes_done * (uint64_t)options->spp, options->first_pass,
+                                            &driver};
             if (options->callback(&progress, options->callback_user_data)) {
                 cancelled = pass + 1 < options->passes;
                 break;
@@ -218,15 +262,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_film_layout layout;
     vbl_film_layout_for(scene, options, &layout);
     vbl_film_stats stats;
-    memset(&stats, 0, sizeof stats);
-    stats.size = sizeof stats;
-    stats.method = options->method;
-    stats.passes = passes_done;
-    stats.spp = options->spp;
-    stats.light_paths = options->light_paths;
-    stats.seed = options->seed;
-    stats.threads = ctx.threads;
-    stats.render_seconds = omp_get_wtime() - start;
+    vbl_render_fill_stats(&driver, &stats);
     stats.cancelled = cancelled;
     stats.time_limited = time_limited;
     r = vbl_film_build(accum, width, height, &layout, &stats, out_film);

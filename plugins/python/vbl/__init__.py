@@ -131,7 +131,9 @@ class _RenderProgress(ctypes.Structure):
                 ("passes", ctypes.c_int),
                 ("elapsed_seconds", ctypes.c_double),
                 ("pass_seconds", ctypes.c_double),
-                ("samples_per_pixel", ctypes.c_uint64)]
+                ("samples_per_pixel", ctypes.c_uint64),
+                ("first_pass", ctypes.c_int),
+                ("driver", ctypes.c_void_p)]
 
 
 _PassCallback = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_RenderProgress), ctypes.c_void_p)
@@ -159,7 +161,8 @@ class _RenderOptions(ctypes.Structure):
                 ("vrl_prune_min_probability", ctypes.c_double),
                 ("vpl_clamp_distance", ctypes.c_double),
                 ("vbl_radius0", ctypes.c_double),
-                ("vbl_alpha", ctypes.c_double)]
+                ("vbl_alpha", ctypes.c_double),
+                ("first_pass", ctypes.c_int)]
 
 
 class _FilmStats(ctypes.Structure):
@@ -172,7 +175,8 @@ class _FilmStats(ctypes.Structure):
                 ("threads", ctypes.c_int),
                 ("render_seconds", ctypes.c_double),
                 ("cancelled", ctypes.c_int),
-                ("time_limited", ctypes.c_int)]
+                ("time_limited", ctypes.c_int),
+                ("first_pass", ctypes.c_int)]
 
 
 # Sizes of the mirrored structs (tests compare them with sizeof in C).
@@ -338,7 +342,7 @@ RENDER_OPTION_FIELDS = tuple(name for name, _ in _RenderOptions._fields_ if name
 def _default_render_options():
     # VBL_RENDER_OPTIONS_DEFAULT
     return _RenderOptions(ctypes.sizeof(_RenderOptions), 0, 16, 4, 10000, 0, 0.0, 0, -1, 1, 0,
-                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0)
+                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0)
 
 
 def _options_to_dict(options):
