@@ -11,8 +11,10 @@ packages=(
   cmake make gcc g++ pkg-config python3 python3-numpy
   libopenvdb-dev libnanovdb-dev libopenvdb-tools libnanovdb-tools libblosc-dev zlib1g-dev
   libboost-iostreams-dev libtbb-dev libopenexr-dev libopencolorio-dev libembree-dev libosd-dev
-  libcjson-dev libpng-dev libcmocka-dev openimageio-tools
+  libcjson-dev libpng-dev libcmocka-dev openimageio-tools libassimp-dev
 )
+# only for `./setup.sh test`: the Slurm integration test (tests/pipeline) and benchmark plots
+test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib)
 
 install_missing_packages() {
   local missing=()
@@ -34,6 +36,7 @@ build() {  # build DIR [cmake options...]
   cmake --build "$dir" -j"$jobs"
 }
 
+[ "$mode" = test ] && packages+=("${test_packages[@]}")
 install_missing_packages
 case "$mode" in
   demo)
