@@ -4,7 +4,6 @@
 
 #include "sampling/sphere.h"
 
-#define VBL_INV_PI 0.31830988618379067154
 
 static vbl_vec3 vbl_lambert_eval(const vbl_material* m, vbl_vec3 n, vbl_vec3 wo, vbl_vec3 wi)
 {
@@ -21,7 +20,7 @@ static double vbl_cosine_pdf(vbl_vec3 n, vbl_vec3 wi)
 /* Cosine-weighted hemisphere about n (Malley): pdf cos / pi. */
 static int vbl_cosine_sample(vbl_vec3 n, double u1, double u2, vbl_vec3* wi, double* pdf)
 {
-    double r = sqrt(u1), phi = 2.0 * 3.14159265358979323846 * u2;
+    double r = sqrt(u1), phi = 2.0 * VBL_PI * u2;
     double x = r * cos(phi), y = r * sin(phi), z = sqrt(fmax(0.0, 1.0 - u1));
     vbl_vec3 t, b;
     vbl_v3_basis(n, &t, &b);
