@@ -94,6 +94,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         cs.sx = px + vbl_rng_uniform(&rng);
         cs.sy = py + vbl_rng_uniform(&rng);
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
+        cs.t_max = INFINITY; /* surfaces: set from the first hit (geometry/surfaces.h) */
 
         /* AOVs: alpha = 1 - T(camera ray), Z = delta-tracked first collision */
         if (ctx->extinction->count > 0) {

@@ -69,6 +69,8 @@ typedef struct vbl_camera_sample {
     uint64_t pixel_index;    /* py * width + px */
     double sx, sy;           /* continuous raster position inside the pixel */
     vbl_vec3 origin, direction; /* unit direction */
+    double t_max;            /* distance to the first surface along the ray (INFINITY if none):
+                                media transport along the camera ray stops there */
 } vbl_camera_sample;
 
 typedef struct vbl_sample_value {
