@@ -18,3 +18,17 @@ if(NOT TARGET vbl::openvdb)
                         ZLIB::ZLIB Imath::Imath Threads::Threads)
 endif()
 find_package(Threads REQUIRED)
+
+# Surfaces: Embree 3 (ray tracing), assimp (OBJ/PLY meshes, C API), OpenSubdiv Far (CPU).
+find_library(VBL_EMBREE_LIBRARY NAMES embree3 REQUIRED)
+find_path(VBL_EMBREE_INCLUDE_DIR embree3/rtcore.h REQUIRED)
+find_library(VBL_ASSIMP_LIBRARY NAMES assimp REQUIRED)
+find_path(VBL_ASSIMP_INCLUDE_DIR assimp/cimport.h REQUIRED)
+find_library(VBL_OSDCPU_LIBRARY NAMES osdCPU REQUIRED)
+find_path(VBL_OSD_INCLUDE_DIR opensubdiv/far/topologyRefiner.h REQUIRED)
+if(NOT TARGET vbl::surfaces)
+  add_library(vbl::surfaces INTERFACE IMPORTED)
+  target_include_directories(vbl::surfaces INTERFACE ${VBL_EMBREE_INCLUDE_DIR} ${VBL_ASSIMP_INCLUDE_DIR}
+                             ${VBL_OSD_INCLUDE_DIR})
+  target_link_libraries(vbl::surfaces INTERFACE ${VBL_EMBREE_LIBRARY} ${VBL_ASSIMP_LIBRARY} ${VBL_OSDCPU_LIBRARY})
+endif()

@@ -16,6 +16,8 @@ static const vbl_cli_command vbl_cli_commands[] = {
     {"render", vbl_cmd_render, "render a scene file to a multi-layer EXR"},
     {"preview", vbl_cmd_preview, "write a PNG of an EXR layer through an OCIO display/view"},
     {"diff", vbl_cmd_diff, "per-layer error (rMAE, RMSE, max) of an EXR against a reference"},
+    {"merge", vbl_cmd_merge, "combine EXRs of disjoint pass ranges (vbl render --pass-range) into one"},
+    {"farm", vbl_cmd_farm, "submit a render to Slurm as an array job of pass ranges plus a merge job"},
 };
 
 static void vbl_cli_print_help(FILE* out)

@@ -5,6 +5,8 @@
 #define VBL_CLI_RENDER_CLI_H
 
 #include "cli.h"
+#include "progress.h"
+#include "vbl_exr.h"
 
 #define VBL_RENDER_CLI_MAX_VDB 8
 
@@ -36,6 +38,15 @@ typedef struct vbl_render_args {
     /* checkpoints */
     long checkpoint_passes;       /* 0: none */
     double checkpoint_seconds;    /* 0: none */
+    /* pipeline (docs/readme/pipeline.md) */
+    const char* preset;           /* --preset preview|production|final; NULL: none */
+    int progress_mode;            /* vbl_progress_mode (progress.h); -q: none */
+    const char* frames;           /* --frames SPEC; NULL: no frame loop */
+    int keep_going;               /* --keep-going: later frames still render after a failed one */
+    int resume;                   /* --resume: continue from OUT.exr if it is a compatible checkpoint */
+    long pass_first, pass_last;   /* --pass-range A-B (inclusive, absolute); -1: not given */
+    /* set per frame by cmd_render.c (the paths above then hold the frame's file names) */
+    int frame, has_frame;
 } vbl_render_args;
 
 /* Parses argv (argv[0] = "render"). Returns -1 to go on, else the exit code to return (help
@@ -56,6 +67,19 @@ void vbl_render_output_scene_load_options(vbl_render_output* output, vbl_scene_l
 /* Fails (VBL_ERROR_SCENE) when the loaded scene's color_space is not in the config. */
 vbl_result vbl_render_output_check_scene(const vbl_render_output* output, const vbl_scene* scene);
 
+/* Resume: `base` (a compatible checkpoint of `passes` passes starting at the absolute pass
+ * `first_pass`, retained) is merged, weighted by pass count, into every EXR written from now on
+ * (merge.h); the metadata then counts the base's passes too. */
+void vbl_render_output_set_base(vbl_render_output* output, vbl_exr_image* base, int passes, int first_pass,
+                                double seconds);
+/* Resume: checks that the EXR at args->output can be continued by a render with `options`
+ * (identity attributes, resolution, first pass, AOV channels). 0 if compatible (*out_passes
+ * receives its passes done), else a VBL_ERROR_SCENE-class error naming the file and field. */
+vbl_result vbl_render_output_check_resume(vbl_render_output* output, const vbl_scene* scene,
+                                          const vbl_render_options* options, const vbl_exr_image* image);
+/* The scene's resolved media paths, recorded as vbl:media (call once the scene is loaded). */
+void vbl_render_output_set_scene(vbl_render_output* output, const vbl_scene* scene);
+
 /* Writes the EXR (`status`: "complete", "checkpoint", "interrupted", "time_limit") with the
  * options actually used and the wall-clock seconds since the command started. */
 vbl_result vbl_render_output_write_exr(vbl_render_output* output, const vbl_film* film,
@@ -69,7 +93,13 @@ vbl_result vbl_render_output_write_preview(vbl_render_output* output, const vbl_
  * film and *status its status string; returns the render's result (VBL_ERROR_INTERRUPTED with a
  * film after a signal). */
 vbl_result vbl_render_run(const vbl_scene* scene, const vbl_render_options* options, const vbl_render_args* args,
-                          vbl_render_output* output, vbl_film** out_film, const char** status);
+                          vbl_render_output* output, vbl_progress* progress, int base_passes, int total_passes,
+                          vbl_film** out_film, const char** status);
+
+/* SIGINT/SIGTERM handling for the whole command: install (1) / restore (0). */
+void vbl_render_signals(int install);
+/* 1 after SIGINT/SIGTERM since vbl_render_signals(1) (the frame loop stops). */
+int vbl_render_interrupted(void);
 
 /* Monotonic clock in seconds. */
 double vbl_render_now(void);

@@ -45,10 +45,24 @@ static void vbl_render_usage(FILE* out)
             "  --preview OUT.png          also write an 8-bit PNG of the beauty through a display/view\n"
             "  --display NAME, --view NAME, --exposure STOPS   the preview's transform (defaults: the\n"
             "                             config's default display and view, 0 stops)\n\n"
-            "  -q, --quiet                no per-pass progress on stderr\n"
+            "Pipelines (README 'Pipeline adapters'):\n"
+            "  --preset NAME              preview|production|final, applied after the scene's render block and\n"
+            "                             before the flags above\n"
+            "  --frames SPEC              render frames: 5, 1-10, 1-100x2, 1,3,7; '####' or '%%04d' in the scene's\n"
+            "                             media[i].vdb, --vdb, -o and --preview become the frame number\n"
+            "  --keep-going               with --frames: a failed frame does not stop the later ones (the exit\n"
+            "                             code is still non-zero)\n"
+            "  --pass-range A-B           render only the absolute passes A..B (inclusive, 0-based) with the seeds\n"
+            "                             of a single render; combine the parts with 'vbl merge'\n"
+            "  --resume                   if OUT.exr is a checkpoint of this render, render only the passes left\n"
+            "                             and merge them into it (no OUT.exr: render from the start)\n"
+            "  --progress MODE            auto (a bar if stderr is a terminal, else lines), bar, lines, none, or\n"
+            "                             json: one JSON object per line on stdout\n"
+            "  -q, --quiet                no progress (--progress none)\n"
             "  -h, --help                 this text\n\n"
-            "Exit codes: 0 ok, 1 render failed, 2 bad command line or unknown colour space, 3 bad scene/VDB,\n"
-            "4 cannot write, 5 interrupted (SIGINT/SIGTERM: the passes done so far are still written).\n");
+            "Exit codes: 0 ok, 1 render failed, 2 bad command line or unknown colour space, 3 bad scene/VDB or\n"
+            "incompatible checkpoint, 4 cannot write, 5 interrupted (SIGINT/SIGTERM: the passes done so far are\n"
+            "still written; --resume continues them).\n");
 }
 
 static int vbl_parse_long(const char* text, long min, long max, long* out)
@@ -69,6 +83,20 @@ static int vbl_parse_double(const char* text, double min, double max, double* ou
     if (errno || !end || *end || end == text || !isfinite(v) || v < min || v > max) return 0;
     *out = v;
     return 1;
+}
+
+/* --pass-range A-B: 0 <= A <= B. */
+static int vbl_parse_pass_range(const char* text, long* first, long* last)
+{
+    const char* dash = strchr(text, '-');
+    if (!dash || dash == text) return 0;
+    char a[32];
+    size_t n = (size_t)(dash - text);
+    if (n >= sizeof a) return 0;
+    memcpy(a, text, n);
+    a[n] = 0;
+    return vbl_parse_long(a, 0, INT_MAX - 1, first) && vbl_parse_long(dash + 1, 0, INT_MAX - 1, last) &&
+           *last >= *first;
 }
 
 static int vbl_parse_compression(const char* text, int* out)
@@ -108,6 +136,7 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     args->time_limit = -1.0;
     args->vbl_radius0 = args->vbl_alpha = -1.0;
     args->compression = -1;
+    args->pass_first = args->pass_last = -1;
 
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
@@ -118,6 +147,13 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             return VBL_EXIT_OK;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             args->quiet = 1;
+            args->progress_mode = VBL_PROGRESS_NONE;
+            takes = 0;
+        } else if (!strcmp(a, "--resume")) {
+            args->resume = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--keep-going")) {
+            args->keep_going = 1;
             takes = 0;
         } else if (!strcmp(a, "--half")) {
             args->half_all = 1;
@@ -162,7 +198,14 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
         else if (!strcmp(a, "--display")) args->display = v;
         else if (!strcmp(a, "--view")) args->view = v;
         else if (!strcmp(a, "--exposure")) ok = vbl_parse_double(v, -64.0, 64.0, &args->exposure);
-        else if (!strcmp(a, "--checkpoint-passes")) ok = vbl_parse_long(v, 1, INT_MAX, &args->checkpoint_passes);
+        else if (!strcmp(a, "--preset")) args->preset = v;
+        else if (!strcmp(a, "--frames")) args->frames = v;
+        else if (!strcmp(a, "--pass-range")) ok = vbl_parse_pass_range(v, &args->pass_first, &args->pass_last);
+        else if (!strcmp(a, "--progress")) {
+            vbl_progress_mode mode = VBL_PROGRESS_AUTO;
+            ok = vbl_progress_parse(v, &mode);
+            if (ok && !args->quiet) args->progress_mode = (int)mode;
+        } else if (!strcmp(a, "--checkpoint-passes")) ok = vbl_parse_long(v, 1, INT_MAX, &args->checkpoint_passes);
         else if (!strcmp(a, "--checkpoint-seconds"))
             ok = vbl_parse_double(v, 0.0, 1e12, &args->checkpoint_seconds) && args->checkpoint_seconds > 0.0;
         else if (!strcmp(a, "--vdb")) {
@@ -184,6 +227,15 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     if (!args->scene_path || !args->output) {
         fprintf(stderr, "vbl render: %s\n\n", !args->scene_path ? "no scene file given" : "no output given (-o OUT.exr)");
         vbl_render_usage(stderr);
+        return VBL_EXIT_USAGE;
+    }
+    if (args->pass_first >= 0 && args->passes > 0 && args->pass_last >= args->passes) {
+        fprintf(stderr, "vbl render: --pass-range %ld-%ld goes past --passes %ld (passes are 0..%ld)\n",
+                args->pass_first, args->pass_last, args->passes, args->passes - 1);
+        return VBL_EXIT_USAGE;
+    }
+    if (args->keep_going && !args->frames) {
+        fprintf(stderr, "vbl render: --keep-going needs --frames\n");
         return VBL_EXIT_USAGE;
     }
     if (args->tile_size && !args->tiled) {

@@ -1,6 +1,7 @@
 /* `vbl render` outputs: the film's layers converted to the output colour space, the EXR with its
  * metadata (docs/readme/output.md, "Metadata"), and the PNG preview through OCIO. */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -10,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "merge.h"
 #include "render_cli.h"
 
 #if defined(__has_include)
@@ -37,7 +39,38 @@ struct vbl_render_output {
 #ifdef VBL_RENDER_HAVE_COLOR
     vbl_color_config* config;
 #endif
+    char media[4096];         /* vbl:media: the scene's VDB paths (realpath), ';'-separated */
+    /* --resume: the checkpoint merged into every file written */
+    vbl_exr_image* base;
+    int base_passes, base_first_pass;
+    double base_seconds;
 };
+
+void vbl_render_output_set_scene(vbl_render_output* o, const vbl_scene* scene)
+{
+    size_t used = 0;
+    o->media[0] = 0;
+    for (int i = 0; i < vbl_scene_medium_count(scene); ++i) {
+        const char* path = vbl_scene_medium_path(scene, i);
+        char* real = path ? realpath(path, NULL) : NULL;
+        int n = snprintf(o->media + used, sizeof o->media - used, "%s%s", i ? ";" : "",
+                         real ? real : (path ? path : ""));
+        free(real);
+        if (n < 0 || (size_t)n >= sizeof o->media - used) break;
+        used += (size_t)n;
+    }
+}
+
+void vbl_render_output_set_base(vbl_render_output* o, vbl_exr_image* base, int passes, int first_pass,
+                                double seconds)
+{
+    if (base) vbl_exr_image_retain(base);
+    if (o->base) vbl_exr_image_release(o->base);
+    o->base = base;
+    o->base_passes = base ? passes : 0;
+    o->base_first_pass = first_pass;
+    o->base_seconds = seconds;
+}
 
 /* ---- checks made before rendering -------------------------------------------------------- */
 
@@ -251,6 +284,7 @@ void vbl_render_output_destroy(vbl_render_output* o)
 #ifdef VBL_RENDER_HAVE_COLOR
     vbl_color_config_release(o->config);
 #endif
+    if (o->base) vbl_exr_image_release(o->base);
     free(o);
 }
 
@@ -338,24 +372,241 @@ static vbl_result vbl_render_layers_make(const vbl_render_output* o, const vbl_f
 
 /* ---- EXR --------------------------------------------------------------------------------- */
 
-#ifdef VBL_RENDER_HAVE_EXR
 static int vbl_render_store_half(const vbl_render_args* a, const char* name, vbl_layer_kind kind)
 {
     if (kind == VBL_KIND_Z || kind == VBL_KIND_SAMPLES) return 0;
     return a->half_all || vbl_render_list_has(a->half_layers, kind == VBL_KIND_BEAUTY ? "beauty" : name);
 }
-#endif
+
+/* The EXR channel name of channel c of layer k ("R", "A", "Z", "samples.Y", "emission.G"). */
+static void vbl_render_channel_name(const vbl_render_layers* L, int k, int c, char* out, size_t size)
+{
+    static const char* const rgba[4] = {"R", "G", "B", "A"};
+    if (L->kinds[k] == VBL_KIND_Z) snprintf(out, size, "Z");
+    else if (L->kinds[k] == VBL_KIND_BEAUTY) snprintf(out, size, "%s", rgba[c]);
+    else snprintf(out, size, "%s.%s", L->names[k], L->channels[k] == 1 ? "Y" : rgba[c]);
+}
+
+/* --resume: every channel of L becomes the pass-weighted combination of the checkpoint (o->base,
+ * planar) and this film (film_passes passes), by the rules of merge.h; the beauty RGB is then the
+ * float sum of the merged transport layers again. */
+static vbl_result vbl_render_layers_merge_base(const vbl_render_output* o, vbl_render_layers* L, size_t n,
+                                               int film_passes)
+{
+    const vbl_exr_image* base = o->base;
+    int passes[2] = {o->base_passes, film_passes};
+    float* merged[VBL_RENDER_MAX_LAYERS] = {NULL};
+    vbl_merge_view alpha[2] = {{NULL, 1}, {NULL, 1}};
+    int beauty = -1;
+    for (int k = 0; k < L->count; ++k)
+        if (L->kinds[k] == VBL_KIND_BEAUTY && L->channels[k] == 4) beauty = k;
+    int base_a = vbl_exr_image_find_channel(base, "A");
+    if (beauty >= 0 && base_a >= 0) {
+        alpha[0].data = vbl_exr_image_channel_pixels(base, base_a);
+        alpha[1].data = L->pixels[beauty] + 3;
+        alpha[1].stride = 4;
+    }
+    vbl_result r = VBL_SUCCESS;
+    for (int k = 0; k < L->count && !r; ++k) {
+        merged[k] = malloc(sizeof(float) * n * (size_t)L->channels[k]);
+        if (!merged[k]) {
+            r = vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory merging the checkpoint");
+            break;
+        }
+        for (int c = 0; c < L->channels[k]; ++c) {
+            char name[256];
+            vbl_render_channel_name(L, k, c, name, sizeof name);
+            vbl_merge_kind kind = vbl_merge_kind_of(name);
+            if (kind == VBL_MERGE_BEAUTY) continue; /* re-summed below */
+            int index = vbl_exr_image_find_channel(base, name);
+            if (index < 0) {
+                r = vbl_report_error(VBL_ERROR_SCENE,
+                                     "%s: the checkpoint has no channel '%s' (resume with the same --aov flags)",
+                                     o->args->output, name);
+                break;
+            }
+            vbl_merge_view in[2] = {{vbl_exr_image_channel_pixels(base, index), 1},
+                                    {L->pixels[k] + c, (size_t)L->channels[k]}};
+            vbl_merge_channel(kind, 2, passes, in, alpha, n, merged[k] + c, (size_t)L->channels[k]);
+        }
+    }
+    if (!r && beauty >= 0) {
+        vbl_merge_view transport[VBL_MERGE_TRANSPORT_COUNT][3];
+        memset(transport, 0, sizeof transport);
+        for (int k = 0; k < L->count; ++k)
+            for (int t = 0; t < VBL_MERGE_TRANSPORT_COUNT; ++t)
+                if (L->kinds[k] == VBL_KIND_TRANSPORT && !strcmp(L->names[k], vbl_merge_transport_order[t]))
+                    for (int c = 0; c < 3; ++c) {
+                        transport[t][c].data = merged[k] + c;
+                        transport[t][c].stride = (size_t)L->channels[k];
+                    }
+        vbl_merge_resum_beauty(transport, n, merged[beauty], 4);
+    }
+    for (int k = 0; k < L->count; ++k) {
+        if (r) {
+            free(merged[k]);
+            continue;
+        }
+        free(L->owned[k]);
+        L->owned[k] = merged[k];
+        L->pixels[k] = merged[k];
+    }
+    return r;
+}
+
+/* FNV-1a 64 of the render settings that change pixels (beyond method, spp, light paths, seed,
+ * which are attributes of their own): two files merge only if these agree. A field added to
+ * vbl_render_options that changes pixels belongs here too. */
+static void vbl_render_options_hash(const vbl_render_options* op, char out[40])
+{
+    char text[1024];
+    snprintf(text, sizeof text,
+             "max_bounces=%d;transmittance=%d;mis=%d;vrl_samples=%d;vrl_long=%d;vrl_connect_march=%d;"
+             "vrl_march_step=%.17g;vrl_prune_radius=%.17g;vrl_prune_min_probability=%.17g;"
+             "vpl_clamp_distance=%.17g;vbl_radius0=%.17g;vbl_alpha=%.17g;vbl_single_scattering=%d;"
+             "beams_radius0=%.17g;beams_alpha=%.17g",
+             op->max_bounces, (int)op->transmittance, (int)op->mis, op->vrl_samples, op->vrl_long,
+             op->vrl_connect_march, op->vrl_march_step, op->vrl_prune_radius, op->vrl_prune_min_probability,
+             op->vpl_clamp_distance, op->vbl_radius0, op->vbl_alpha, op->vbl_single_scattering, op->beams_radius0,
+             op->beams_alpha);
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (const char* p = text; *p; ++p) h = (h ^ (unsigned char)*p) * 0x100000001b3ull;
+    snprintf(out, 40, "fnv1a64:%016llx", (unsigned long long)h);
+}
+
+#define VBL_RENDER_MAX_ATTRS 32
+
+/* The EXR header attributes (docs/readme/output.md, "Metadata"; docs/readme/pipeline.md). */
+typedef struct vbl_render_meta {
+    char software[64], seed[32], options_hash[40], pass_range[64];
+    vbl_exr_attribute attrs[VBL_RENDER_MAX_ATTRS];
+    int count;
+} vbl_render_meta;
+
+static void vbl_render_meta_add(vbl_render_meta* m, const char* name, const char* value, vbl_exr_attribute_type type,
+                                int int_value, double double_value)
+{
+    if (m->count >= VBL_RENDER_MAX_ATTRS) return;
+    vbl_exr_attribute* a = &m->attrs[m->count++];
+    a->name = name;
+    a->value = value;
+    a->type = type;
+    a->int_value = int_value;
+    a->double_value = double_value;
+}
+
+/* `stats`: the film's (or, before rendering, the options'); passes = every pass in the file,
+ * first_pass = the absolute index of its first pass. */
+static void vbl_render_meta_make(const vbl_render_output* o, const vbl_film_stats* stats,
+                                 const vbl_render_options* options, int passes, int first_pass, int passes_requested,
+                                 const char* status, double wall_seconds, vbl_render_meta* m)
+{
+    const vbl_exr_attribute_type S = VBL_EXR_ATTRIBUTE_STRING, I = VBL_EXR_ATTRIBUTE_INT, D = VBL_EXR_ATTRIBUTE_DOUBLE;
+    const vbl_render_args* a = o->args;
+    memset(m, 0, sizeof *m);
+    snprintf(m->software, sizeof m->software, "vbl %s", vbl_version_string());
+    snprintf(m->seed, sizeof m->seed, "%llu", (unsigned long long)stats->seed);
+    vbl_render_options_hash(options, m->options_hash);
+    vbl_render_meta_add(m, "software", m->software, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:version", vbl_version_string(), S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:scene", a->scene_path, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:scene_hash", o->scene_hash, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:media", o->media, S, 0, 0.0);
+    if (a->has_frame) vbl_render_meta_add(m, "vbl:frame", NULL, I, a->frame, 0.0);
+    vbl_render_meta_add(m, "vbl:method", vbl_render_method_name(stats->method), S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:preset", a->preset ? a->preset : "none", S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:status", status, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:passes", NULL, I, passes, 0.0);
+    vbl_render_meta_add(m, "vbl:passes_requested", NULL, I, passes_requested, 0.0);
+    vbl_render_meta_add(m, "vbl:first_pass", NULL, I, first_pass, 0.0);
+    if (a->pass_first >= 0) {
+        snprintf(m->pass_range, sizeof m->pass_range, "%ld-%ld", a->pass_first, a->pass_last);
+        vbl_render_meta_add(m, "vbl:pass_range", m->pass_range, S, 0, 0.0);
+    }
+    vbl_render_meta_add(m, "vbl:spp", NULL, I, stats->spp, 0.0);
+    vbl_render_meta_add(m, "vbl:light_paths", NULL, I, stats->light_paths, 0.0);
+    vbl_render_meta_add(m, "vbl:seed", m->seed, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:options_hash", m->options_hash, S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:threads", NULL, I, stats->threads, 0.0);
+    vbl_render_meta_add(m, "vbl:max_bounces", NULL, I, options->max_bounces, 0.0);
+    vbl_render_meta_add(m, "vbl:transmittance", vbl_transmittance_estimator_name(options->transmittance), S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:render_seconds", NULL, D, 0, wall_seconds);
+    vbl_render_meta_add(m, "vbl:alpha", "premultiplied; A = 1 - transmittance along the camera ray", S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:scene_color_space", o->scene_space ? o->scene_space : "scene_linear", S, 0, 0.0);
+    /* written by the EXR writer from write options; listed here for the identity checks */
+    if (o->output_space) vbl_render_meta_add(m, "oiio:ColorSpace", o->output_space, S, 0, 0.0);
+}
+
+vbl_result vbl_render_output_check_resume(vbl_render_output* o, const vbl_scene* scene,
+                                          const vbl_render_options* options, const vbl_exr_image* image)
+{
+    const char* path = o->args->output;
+    const char* status = vbl_exr_image_attribute(image, "vbl:status", NULL);
+    const char* passes_text = vbl_exr_image_attribute(image, "vbl:passes", NULL);
+    const char* first_text = vbl_exr_image_attribute(image, "vbl:first_pass", NULL);
+    if (!status || !passes_text || !first_text)
+        return vbl_report_error(VBL_ERROR_SCENE,
+                                "%s: cannot resume: not a vbl render checkpoint (no vbl:status / vbl:passes / "
+                                "vbl:first_pass); move it away or drop --resume",
+                                path);
+    if (strcmp(status, "checkpoint") && strcmp(status, "interrupted") && strcmp(status, "time_limit") &&
+        strcmp(status, "complete"))
+        return vbl_report_error(VBL_ERROR_SCENE, "%s: cannot resume: vbl:status = \"%s\"", path, status);
+    if (atoi(passes_text) < 1)
+        return vbl_report_error(VBL_ERROR_SCENE, "%s: cannot resume: vbl:passes = %s", path, passes_text);
+    if (atoi(first_text) != options->first_pass)
+        return vbl_report_error(VBL_ERROR_SCENE,
+                                "%s: cannot resume: vbl:first_pass = %s but this render starts at pass %d", path,
+                                first_text, options->first_pass);
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.method = options->method;
+    stats.spp = options->spp;
+    stats.light_paths = options->light_paths;
+    stats.seed = options->seed;
+    vbl_render_meta m;
+    vbl_render_meta_make(o, &stats, options, 0, options->first_pass, 0, "checkpoint", 0.0, &m);
+    int w = 0, h = 0;
+    vbl_scene_resolution(scene, &w, &h);
+    vbl_merge_identity want, have;
+    vbl_merge_identity_from_attributes(m.attrs, m.count, w, h, &want);
+    vbl_merge_identity_from_image(image, &have);
+    char msg[4096];
+    if (vbl_merge_identity_compare(&want, "this render", &have, path, msg, sizeof msg))
+        return vbl_report_error(VBL_ERROR_SCENE, "cannot resume: %s", msg);
+    static const char* const aov_channels[3] = {"samples.Y", "variance.R", "Z"};
+    int wanted[3] = {o->args->aov_samples, o->args->aov_variance,
+                     o->args->aov_z && vbl_scene_medium_count(scene) > 0};
+    for (int i = 0; i < 3; ++i)
+        if ((vbl_exr_image_find_channel(image, aov_channels[i]) >= 0) != wanted[i])
+            return vbl_report_error(VBL_ERROR_SCENE,
+                                    "cannot resume: %s %s channel %s but this render %s it (use the same --aov)", path,
+                                    wanted[i] ? "lacks" : "has", aov_channels[i], wanted[i] ? "writes" : "does not write");
+    return VBL_SUCCESS;
+}
 
 vbl_result vbl_render_output_write_exr(vbl_render_output* o, const vbl_film* film, const vbl_render_options* options,
                                        int passes_requested, const char* status, double wall_seconds)
 {
-#ifndef VBL_RENDER_HAVE_EXR
-    (void)o, (void)film, (void)options, (void)passes_requested, (void)status, (void)wall_seconds;
-    return vbl_report_error(VBL_ERROR_UNSUPPORTED, "this vbl was built without the EXR writer");
-#else
     vbl_render_layers L;
     vbl_result r = vbl_render_layers_make(o, film, &L);
     if (r) return r;
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.size = sizeof stats;
+    vbl_film_get_stats(film, &stats);
+    const size_t n = (size_t)vbl_film_width(film) * (size_t)vbl_film_height(film);
+    int passes = stats.passes, first_pass = stats.first_pass;
+    if (o->base) {
+        r = vbl_render_layers_merge_base(o, &L, n, stats.passes);
+        if (r) {
+            vbl_render_layers_free(&L);
+            return r;
+        }
+        passes += o->base_passes;
+        first_pass = o->base_first_pass;
+        wall_seconds += o->base_seconds;
+    }
     static const char* const z_names[1] = {"Z"};
     static const char* const y_names[1] = {"Y"};
     vbl_exr_layer layers[VBL_RENDER_MAX_LAYERS];
@@ -368,37 +619,12 @@ vbl_result vbl_render_output_write_exr(vbl_render_output* o, const vbl_film* fil
         l->pixels = L.pixels[i];
         l->store_half = vbl_render_store_half(o->args, L.names[i], L.kinds[i]);
     }
-    vbl_film_stats stats;
-    memset(&stats, 0, sizeof stats);
-    stats.size = sizeof stats;
-    vbl_film_get_stats(film, &stats);
-    char software[64], seed[32];
-    snprintf(software, sizeof software, "vbl %s", vbl_version_string());
-    snprintf(seed, sizeof seed, "%llu", (unsigned long long)stats.seed);
-    const vbl_exr_attribute_type S = VBL_EXR_ATTRIBUTE_STRING, I = VBL_EXR_ATTRIBUTE_INT, D = VBL_EXR_ATTRIBUTE_DOUBLE;
-    vbl_exr_attribute attrs[] = {
-        {"software", software, S, 0, 0.0},
-        {"vbl:version", vbl_version_string(), S, 0, 0.0},
-        {"vbl:scene", o->args->scene_path, S, 0, 0.0},
-        {"vbl:scene_hash", o->scene_hash, S, 0, 0.0},
-        {"vbl:method", vbl_render_method_name(stats.method), S, 0, 0.0},
-        {"vbl:preset", "none", S, 0, 0.0},
-        {"vbl:status", status, S, 0, 0.0},
-        {"vbl:passes", NULL, I, stats.passes, 0.0},
-        {"vbl:passes_requested", NULL, I, passes_requested, 0.0},
-        {"vbl:spp", NULL, I, stats.spp, 0.0},
-        {"vbl:light_paths", NULL, I, stats.light_paths, 0.0},
-        {"vbl:seed", seed, S, 0, 0.0},
-        {"vbl:threads", NULL, I, stats.threads, 0.0},
-        {"vbl:max_bounces", NULL, I, options->max_bounces, 0.0},
-        {"vbl:transmittance", vbl_transmittance_estimator_name(options->transmittance), S, 0, 0.0},
-        {"vbl:render_seconds", NULL, D, 0, wall_seconds},
-        {"vbl:alpha", "premultiplied; A = 1 - transmittance along the camera ray", S, 0, 0.0},
-        {"vbl:scene_color_space", o->scene_space ? o->scene_space : "scene_linear", S, 0, 0.0},
-    };
+    vbl_render_meta m;
+    vbl_render_meta_make(o, &stats, options, passes, first_pass, passes_requested, status, wall_seconds, &m);
+    if (o->output_space) --m.count; /* oiio:ColorSpace: written by the EXR writer (wo.color_space) */
     vbl_exr_write_options wo = VBL_EXR_WRITE_OPTIONS_DEFAULT;
-    wo.attributes = attrs;
-    wo.attribute_count = (int)(sizeof attrs / sizeof attrs[0]);
+    wo.attributes = m.attrs;
+    wo.attribute_count = m.count;
     if (o->args->compression >= 0) wo.compression = (vbl_exr_compression)o->args->compression;
     wo.tiled = o->args->tiled;
     wo.tile_size = o->args->tile_size;
@@ -407,7 +633,6 @@ vbl_result vbl_render_output_write_exr(vbl_render_output* o, const vbl_film* fil
     r = vbl_exr_write(o->args->output, vbl_film_width(film), vbl_film_height(film), layers, L.count, &wo);
     vbl_render_layers_free(&L);
     return r;
-#endif
 }
 
 /* ---- preview ----------------------------------------------------------------------------- */

@@ -90,10 +90,21 @@ int ct_count_entries(const char* dir, char* names, int size)
 
 int ct_render(const char* args, char** output)
 {
+    size_t len = strlen(args) + 16;
+    char* full = malloc(len);
+    if (!full) abort();
+    snprintf(full, len, "render %s", args);
+    int code = ct_vbl_run(full, output, 1);
+    free(full);
+    return code;
+}
+
+int ct_vbl_run(const char* args, char** output, int with_stderr)
+{
     size_t len = strlen(args) + 2048;
     char* cmd = malloc(len);
     if (!cmd) abort();
-    snprintf(cmd, len, "'%s' render %s 2>&1", ct_vbl(), args);
+    snprintf(cmd, len, "'%s' %s %s", ct_vbl(), args, with_stderr ? "2>&1" : "2>/dev/null");
     FILE* p = popen(cmd, "r");
     free(cmd);
     if (!p) return -1;

@@ -21,6 +21,9 @@ int ct_count_entries(const char* dir, char* names, int size);
 /* Runs `vbl render ARGS` through the shell with stdout+stderr captured into *output (malloc'd,
  * may be NULL); returns the exit status (or -1). */
 int ct_render(const char* args, char** output);
+/* Runs `vbl ARGS` through the shell; *output (malloc'd, may be NULL) receives stdout, and stderr
+ * too when with_stderr (else stderr is discarded); returns the exit status (or -1). */
+int ct_vbl_run(const char* args, char** output, int with_stderr);
 /* A small scene (box.vdb, a distant light and an environment light) of W x H pixels. */
 void ct_write_scene(const char* path, int width, int height, const char* extra_top_level);
 /* FNV-1a 64 of a file's bytes. */

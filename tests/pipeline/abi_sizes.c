@@ -17,6 +17,8 @@ int main(void)
     SIZE(vbl_transmittance_options);
     SIZE(vbl_transmittance_result);
     SIZE(vbl_scene_load_options);
+    OFF(vbl_scene_load_options, frame);
+    OFF(vbl_scene_load_options, use_frame);
     SIZE(vbl_render_progress);
     SIZE(vbl_render_options);
     OFF(vbl_render_options, method);
@@ -41,6 +43,9 @@ int main(void)
     OFF(vbl_render_options, vbl_radius0);
     OFF(vbl_render_options, vbl_alpha);
     OFF(vbl_render_options, first_pass);
+    OFF(vbl_render_options, vbl_single_scattering);
+    OFF(vbl_render_options, beams_radius0);
+    OFF(vbl_render_options, beams_alpha);
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);

@@ -191,6 +191,22 @@ class TestRender(unittest.TestCase):
             vbl.Scene(self.scene_path, vdb_overrides=[os.path.join(self.tmp.name, "missing.vdb")])
         self.assertIn("missing.vdb", raised.exception.message)
 
+    def test_vdb_sequence_frame(self):
+        import shutil
+        shutil.copyfile(BOX, os.path.join(self.tmp.name, "seq.0007.vdb"))
+        media = [{"vdb": "seq.####.vdb", "density_scale": 3.0}]
+        path = write_scene(self.tmp.name, "seq.json", media=media)
+        scene = vbl.Scene(path, frame=7)
+        self.assertTrue(scene.medium_path(0).endswith("seq.0007.vdb"))
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Scene(path)                      # a pattern needs a frame
+        self.assertIn("media[0].vdb", raised.exception.message)
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.Scene(path, frame=8)             # a missing frame names the frame and the file
+        self.assertEqual(raised.exception.result, "VBL_ERROR_FILE_NOT_FOUND")
+        self.assertIn("frame 8", raised.exception.message)
+        self.assertIn("seq.0008.vdb", raised.exception.message)
+
     def test_bad_scene_names_field(self):
         media = [{"vdb": BOX, "density_scale": 3.0, "albedo": [0.9, 0.8, 0.7],
                   "phase": {"type": "hg", "g": 1.2}}]

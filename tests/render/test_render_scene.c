@@ -135,7 +135,7 @@ static void test_parse_errors(void** state)
                  VBL_ERROR_SCENE, "lights[0].inner_angle_deg = 30 is outside [0, outer_angle_deg = 20]");
     expect_error("{" CAMERA ", \"render\": {\"passes\": 0}}", VBL_ERROR_SCENE, "render.passes = 0 is outside [1, 1000000000]");
     expect_error("{" CAMERA ", \"render\": {\"method\": \"magic\"}}", VBL_ERROR_SCENE,
-                 "render.method = \"magic\" is not one of pt, vpl, vrl, vbl");
+                 "render.method = \"magic\" is not one of pt, vpl, vrl, vbl, beams");
     expect_error("{" CAMERA ", \"render\": {\"spp\": 2.5}}", VBL_ERROR_SCENE, "render.spp must be an integer");
     expect_error("{\"camera\": {\"position\": [0,0,0], \"look_at\": [0,0,1], \"resolution\": [4, 4]}}", VBL_ERROR_SCENE,
                  "camera.up is zero or parallel to the view direction");

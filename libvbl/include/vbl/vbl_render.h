@@ -43,9 +43,16 @@ typedef struct vbl_scene_load_options {
      * the converted value; it is never clamped. */
     vbl_result (*convert_color)(void* user, const char* color_space, const char* field, double rgb[3]);
     void* convert_color_user;
+    /* VDB sequences: with use_frame = 1, frame patterns in media[i].vdb (and in the overrides)
+     * are replaced by `frame`: a run of N '#' -> the frame zero-padded to N digits
+     * ("smoke.####.vdb" -> "smoke.0007.vdb"), "%04d" / "%d" printf-style. A pattern with
+     * use_frame = 0 fails the load (VBL_ERROR_SCENE); a missing frame file fails with
+     * VBL_ERROR_FILE_NOT_FOUND naming the field, the frame and the file. */
+    int frame;
+    int use_frame;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
@@ -73,10 +80,11 @@ typedef enum vbl_render_method {
     VBL_RENDER_PT = 0,  /* volumetric path tracer (reference) */
     VBL_RENDER_VPL = 1, /* virtual point lights */
     VBL_RENDER_VRL = 2, /* virtual ray lights */
-    VBL_RENDER_VBL = 3  /* virtual beam lights (media-to-media, progressive radius) */
+    VBL_RENDER_VBL = 3, /* virtual beam lights (media-to-media, progressive radius) */
+    VBL_RENDER_BEAMS = 4 /* progressive photon beams (beam x beam 1D, progressive width) */
 } vbl_render_method;
 
-/* "pt", "vpl", "vrl", "vbl"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
+/* "pt", "vpl", "vrl", "vbl", "beams"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
 VBL_API const char* vbl_render_method_name(vbl_render_method method);
 VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out);
 
@@ -130,12 +138,16 @@ typedef struct vbl_render_options {
      * first_pass + passes passes would use for them; films of disjoint pass ranges merge into
      * the single render's film, weighted by pass count. */
     int first_pass;     /* >= 0 */
+    /* ---- photon beams (scene file: render.beams, render.vbl.single_scattering; docs/readme/beams.md) */
+    int vbl_single_scattering; /* vbl's volume_direct: 0 default, 1 equiangular, 2 photon beams */
+    double beams_radius0;      /* photon beam half-width R_0, world units; 0: default from scene and beams */
+    double beams_alpha;        /* (0,1): width reduction (eq 11, d = 1); 0: 0.7 */
 } vbl_render_options;
 
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -6,7 +6,14 @@
 #ifndef VBL_GEOMETRY_SURFACES_H
 #define VBL_GEOMETRY_SURFACES_H
 
+#include <stddef.h>
+
 #include "core/math.h"
+#include "vbl/vbl_core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct vbl_surfaces vbl_surfaces;
 
@@ -29,5 +36,35 @@ int vbl_surfaces_occluded(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 direc
 double vbl_surfaces_ray_epsilon(const vbl_surfaces* s, vbl_vec3 position);
 
 void vbl_surfaces_release(vbl_surfaces* s);
+
+/* ---- building (single-threaded, before rendering) ------------------------------------- */
+
+/* A triangle mesh in scene space. normals: per-vertex (NULL: geometric normals are used). */
+typedef struct vbl_mesh_data {
+    double* positions;      /* 3 * vertex_count */
+    double* normals;        /* 3 * vertex_count or NULL */
+    size_t vertex_count;
+    unsigned* indices;      /* 3 * triangle_count */
+    size_t triangle_count;
+} vbl_mesh_data;
+
+void vbl_mesh_data_free(vbl_mesh_data* mesh);
+
+/* Creates an empty Embree device + scene (RTC_SCENE_FLAG_ROBUST). `name` is used in messages. */
+vbl_result vbl_surfaces_create(const char* name, vbl_surfaces** out);
+/* Adds `mesh` (copied) as surface number vbl_surfaces_count() with `material`, transformed by
+ * `to_scene` (NULL: identity; normals by its inverse transpose) and commits the scene. Triangles
+ * with zero area (after the transform), repeated or out-of-range indices are dropped and counted
+ * in *dropped (may be NULL); a mesh left with no triangle is an error naming `what`. */
+vbl_result vbl_surfaces_add_mesh(vbl_surfaces* s, const vbl_mesh_data* mesh, int material, const vbl_affine* to_scene,
+                                 const char* what, size_t* dropped);
+int vbl_surfaces_count(const vbl_surfaces* s);
+size_t vbl_surfaces_triangle_count(const vbl_surfaces* s);
+/* Axis-aligned bounds of all triangles (scene space); returns 0 when empty. */
+int vbl_surfaces_bounds(const vbl_surfaces* s, vbl_vec3* lo, vbl_vec3* hi);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

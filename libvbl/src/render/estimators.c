@@ -1,5 +1,6 @@
 /* Method -> estimator table. vpl and vrl plug in here (transport/vpl.h, transport/vrl.h). */
 #include "transport/estimator.h"
+#include "transport/photon_beams.h"
 #include "transport/pt.h"
 #include "transport/vbl_beams.h"
 #include "transport/vpl.h"
@@ -12,6 +13,7 @@ const vbl_estimator* vbl_estimator_for(vbl_render_method method)
     case VBL_RENDER_VPL: return &vbl_estimator_vpl;
     case VBL_RENDER_VRL: return &vbl_estimator_vrl;
     case VBL_RENDER_VBL: return &vbl_estimator_vbl;
+    case VBL_RENDER_BEAMS: return &vbl_estimator_beams;
     }
     return NULL;
 }

@@ -19,8 +19,14 @@ void vbl_film_layout_for(const vbl_scene* scene, const vbl_render_options* optio
     layout->transport[VBL_CLASS_VOLUME_DIRECT] = lit_media && options->max_bounces != 0;
     layout->transport[VBL_CLASS_VOLUME_FROM_VOLUME] =
         lit_media && (options->max_bounces < 0 || options->max_bounces >= 2);
-    /* surface classes: set by the surface transports once the scene has surfaces */
-    layout->depth = scene->media_count > 0;
+    /* surface classes (scattering events: surface_direct 1, the *_from_* classes at least 2) */
+    int lit_surfaces = scene->has_surfaces && scene->light_count > 0;
+    int two = options->max_bounces < 0 || options->max_bounces >= 2;
+    layout->transport[VBL_CLASS_SURFACE_DIRECT] = lit_surfaces && options->max_bounces != 0;
+    layout->transport[VBL_CLASS_SURFACE_FROM_SURFACE] = lit_surfaces && two;
+    layout->transport[VBL_CLASS_SURFACE_FROM_VOLUME] = lit_surfaces && two;
+    layout->transport[VBL_CLASS_VOLUME_FROM_SURFACE] = lit_surfaces && scene->media_count > 0 && two;
+    layout->depth = scene->media_count > 0 || scene->has_surfaces;
 }
 
 static vbl_film_layer_data* vbl_film_add_layer(vbl_film* film, const char* name, int channels,

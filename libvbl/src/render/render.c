@@ -18,7 +18,7 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!scene || !o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
     if (o->size < sizeof(vbl_render_options))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: options.size is too small");
-    if ((unsigned)o->method > (unsigned)VBL_RENDER_VBL)
+    if ((unsigned)o->method > (unsigned)VBL_RENDER_BEAMS)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown method %d", (int)o->method);
     if (o->passes < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: passes = %d must be >= 1", o->passes);
     if (o->spp < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: spp = %d must be >= 1", o->spp);
@@ -65,6 +65,16 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!(o->vbl_alpha >= 0.0 && o->vbl_alpha < 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_alpha = %g is outside (0, 1) (0: default 0.7)",
                          o->vbl_alpha);
+    if (o->vbl_single_scattering < 0 || o->vbl_single_scattering > 2)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_render: vbl_single_scattering = %d must be 0 (default), 1 (equiangular) or 2 (beams)",
+                         o->vbl_single_scattering);
+    if (!(o->beams_radius0 >= 0.0 && isfinite(o->beams_radius0)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_render: beams_radius0 = %g must be finite and >= 0 (0: default)", o->beams_radius0);
+    if (!(o->beams_alpha >= 0.0 && o->beams_alpha < 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: beams_alpha = %g is outside (0, 1) (0: default 0.7)",
+                         o->beams_alpha);
     return VBL_SUCCESS;
 }
 
@@ -94,14 +104,27 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         cs.sx = px + vbl_rng_uniform(&rng);
         cs.sy = py + vbl_rng_uniform(&rng);
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
-        cs.t_max = INFINITY; /* surfaces: set from the first hit (geometry/surfaces.h) */
+        cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
+        int surface_hit = 0;
+        if (ctx->scene->surfaces) {
+            vbl_surface_hit hit;
+            if (vbl_surfaces_intersect(ctx->scene->surfaces, cs.origin, cs.direction, 0.0, INFINITY, &hit)) {
+                cs.t_max = hit.t;
+                surface_hit = 1;
+            }
+        }
 
-        /* AOVs: alpha = 1 - T(camera ray), Z = delta-tracked first collision */
-        if (ctx->extinction->count > 0) {
-            acc->alpha += 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
+        /* AOVs: alpha = 1 on opaque surfaces, else 1 - T(camera ray); Z = the delta-tracked
+         * first collision or the surface hit, whichever comes first */
+        if (ctx->extinction->count > 0 || surface_hit) {
+            acc->alpha += surface_hit ? 1.0 : 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
             double t = 0.0, sigma_t = 0.0;
-            if (vbl_ctx_free_flight(ctx, ts, cs.origin, cs.direction, INFINITY, &rng, &t, &sigma_t, components)) {
+            if (ctx->extinction->count > 0 &&
+                vbl_ctx_free_flight(ctx, ts, cs.origin, cs.direction, cs.t_max, &rng, &t, &sigma_t, components)) {
                 acc->depth += t;
+                acc->depth_hits += 1.0;
+            } else if (surface_hit) {
+                acc->depth += cs.t_max;
                 acc->depth_hits += 1.0;
             }
         }

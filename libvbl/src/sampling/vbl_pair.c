@@ -24,6 +24,7 @@ int vbl_vbl_pair_init(vbl_vbl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, do
     p->g_light = g_light;
     p->radius = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
     p->valid = 0;
+    p->isotropic = g_camera == 0.0 && g_light == 0.0;
     if (!(u1 > u0) || !(v1 > v0) || !(radius >= 0.0) || !isfinite(radius)) {
         vbl_sinh_marginal_init(&p->marginal, 0.0, 0.0, 0.0, 0.0);
         return 0;
@@ -123,8 +124,11 @@ double vbl_vbl_pair_conditional_pdf(const vbl_vbl_pair* p, double v, double u)
     if (!p->valid || u < p->u0 || u > p->u1) return 0.0;
     arc a;
     vbl_pwl pwl;
-    if (!arc_make(p, v, &a) || !arc_pwl(p, &a, &pwl)) return 0.0;
+    if (!arc_make(p, v, &a)) return 0.0;
     double du = u - a.up;
+    if (p->isotropic) /* uniform in phi (see vbl_pair.h) */
+        return a.dsoft / ((a.phi1 - a.phi0) * (a.dsoft * a.dsoft + du * du));
+    if (!arc_pwl(p, &a, &pwl)) return 0.0;
     double phi = vbl_clamp(atan2(du, a.dsoft), a.phi0, a.phi1);
     return vbl_pwl_pdf(&pwl, phi) * a.dsoft / (a.dsoft * a.dsoft + du * du);
 }
@@ -141,12 +145,19 @@ int vbl_vbl_pair_draw(const vbl_vbl_pair* p, double xi1, double xi2, vbl_vbl_pai
     if (!(pv > 0.0)) return 0;
     arc a;
     vbl_pwl pwl;
-    if (!arc_make(p, v, &a) || !arc_pwl(p, &a, &pwl)) return 0;
-    double phi = vbl_pwl_sample(&pwl, xi2, NULL);
+    if (!arc_make(p, v, &a)) return 0;
+    double phi;
+    if (p->isotropic) { /* uniform in phi: the analytic (Cauchy) case */
+        phi = a.phi0 + xi2 * (a.phi1 - a.phi0);
+    } else {
+        if (!arc_pwl(p, &a, &pwl)) return 0;
+        phi = vbl_pwl_sample(&pwl, xi2, NULL);
+    }
     double u = vbl_clamp(a.up + a.dsoft * tan(phi), p->u0, p->u1);
     double du = u - a.up;
     double phi_u = vbl_clamp(atan2(du, a.dsoft), a.phi0, a.phi1);
-    double pu = vbl_pwl_pdf(&pwl, phi_u) * a.dsoft / (a.dsoft * a.dsoft + du * du); /* dphi/du */
+    double pphi = p->isotropic ? 1.0 / (a.phi1 - a.phi0) : vbl_pwl_pdf(&pwl, phi_u);
+    double pu = pphi * a.dsoft / (a.dsoft * a.dsoft + du * du); /* dphi/du */
     if (!(pu > 0.0) || !isfinite(pu)) return 0;
     out->u = u;
     out->v = v;
@@ -188,6 +199,9 @@ double vbl_vsl_kernel(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l,
     if (!(cone.solid_angle > 0.0)) /* R == 0: the VRL integrand f_l f_c / w^2 */
         return vbl_hg_eval(g_light, vbl_v3_dot(l_d, cone.axis)) * vbl_hg_eval(g_camera, vbl_v3_dot(mc, cone.axis)) *
                cone.geometry;
+    if (g_light == 0.0 && g_camera == 0.0) { /* isotropic: the integrand is constant, exact */
+        return cone.geometry * VBL_INV_4PI * VBL_INV_4PI;
+    }
     if (n < 1) n = 1;
     lobe lobes[2] = {{g_light, l_d, 0}, {g_camera, mc, 0}};
     for (int k = 0; k < 2; ++k)

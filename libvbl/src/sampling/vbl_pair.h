@@ -24,7 +24,12 @@
  *     cosine-warped (VRL appendix eq 19) with one moved onto the light lobe's peak on the arc.
  * The returned pdf is the joint density in (u, v); it is exactly what vbl_vbl_pair_density gives.
  * Degenerate geometry: parallel lines give the uniform stage-1 limit, crossing lines are smooth
- * (R > 0), R = 0 reproduces the VRL sampler's targets. */
+ * (R > 0), R = 0 reproduces the VRL sampler's targets.
+ * Isotropic media (both g exactly 0) take the analytic path: the vertex values are all
+ * 1 / (4 pi)^2, so the piecewise-linear density is uniform in phi (a Cauchy / equiangular density
+ * in u about the VSL, as the VRL sampler's isotropic case) and is used directly, and the kernel
+ * is geometry / (4 pi)^2 without quadrature: the same densities and values as the general path
+ * (tested), without the 12 cone maxima and the 16-48 kernel directions. */
 #ifndef VBL_SAMPLING_VBL_PAIR_H
 #define VBL_SAMPLING_VBL_PAIR_H
 
@@ -47,6 +52,7 @@ typedef struct vbl_vbl_pair {
     double u0, u1, v0, v1, g_camera, g_light, radius;
     vbl_sinh_marginal marginal; /* over t = v - v0, h -> hypot(h, R) */
     int valid;
+    int isotropic; /* g_camera == g_light == 0: constant stage-2 target, stage 2 uniform in phi */
 } vbl_vbl_pair;
 
 /* Returns 1 if the pair has support (both segments of positive length, radius >= 0 finite). */

@@ -16,6 +16,7 @@ void vbl_scene_release(vbl_scene* scene)
     if (!scene || __atomic_sub_fetch(&scene->refcount, 1, __ATOMIC_ACQ_REL) != 0) return;
     for (int i = 0; i < scene->media_count; ++i)
         if (scene->media[i].volume) vbl_volume_release(scene->media[i].volume);
+    vbl_scene_free_surfaces(scene);
     free(scene);
 }
 
@@ -55,7 +56,7 @@ vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_options* 
     return VBL_SUCCESS;
 }
 
-static const char* const vbl_method_names[] = {"pt", "vpl", "vrl", "vbl"};
+static const char* const vbl_method_names[] = {"pt", "vpl", "vrl", "vbl", "beams"};
 #define VBL_METHOD_COUNT (sizeof vbl_method_names / sizeof vbl_method_names[0])
 
 const char* vbl_render_method_name(vbl_render_method method)
@@ -70,7 +71,7 @@ vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out)
             *out = (vbl_render_method)i;
             return VBL_SUCCESS;
         }
-    return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl, vbl)", name ? name : "");
+    return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl, vbl, beams)", name ? name : "");
 }
 
 void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction)

@@ -1,9 +1,14 @@
 /* The scene model built from a JSON scene file: pinhole camera, lights, media (VDB volumes with
- * density scale, albedo, HG phase, placement) and the render block. Immutable after loading. */
+ * density scale, albedo, HG phase, placement), opaque surfaces (meshes + materials,
+ * scene_surfaces.h) and the render block. Immutable after loading. */
 #ifndef VBL_SCENE_SCENE_H
 #define VBL_SCENE_SCENE_H
 
+#include <stddef.h>
+
 #include "core/math.h"
+#include "geometry/surfaces.h"
+#include "material/material.h"
 #include "vbl/vbl_render.h"
 #include "volume/extinction.h"
 
@@ -59,6 +64,13 @@ struct vbl_scene {
     vbl_medium media[VBL_MAX_MEDIA];
     int media_count;
     vbl_extinction extinction; /* components in media order */
+    /* surfaces (docs/readme/surfaces.md): NULL/0 for media-only scenes, which then never call
+     * Embree. Surface i uses materials[i]. */
+    vbl_surfaces* surfaces;
+    vbl_material* materials;
+    int surface_count;
+    int has_surfaces;
+    size_t dropped_triangles; /* degenerate / non-triangle faces dropped while loading */
     vbl_render_options render; /* the scene's render block (defaults filled in) */
 };
 
@@ -71,6 +83,16 @@ vbl_result vbl_scene_create_empty(const char* name, const vbl_camera* camera, vb
 vbl_result vbl_scene_add_medium(vbl_scene* scene, vbl_volume* volume, double density_scale, vbl_vec3 albedo,
                                 double g, const vbl_affine* volume_to_scene);
 vbl_result vbl_scene_add_light(vbl_scene* scene, const vbl_light* light);
+/* Appends a triangle mesh (positions: 3 * vertex_count doubles, indices: 3 * triangle_count)
+ * with `material` (validated) placed by `to_scene` (NULL = identity). Degenerate triangles are
+ * dropped (counted in scene->dropped_triangles); no triangle left is an error. */
+vbl_result vbl_scene_add_mesh(vbl_scene* scene, const double* positions, size_t vertex_count, const unsigned* indices,
+                              size_t triangle_count, const vbl_material* material, const vbl_affine* to_scene);
+/* Appends an already loaded mesh (normals optional); `what` names it in messages. */
+vbl_result vbl_scene_add_mesh_data(vbl_scene* scene, const vbl_mesh_data* mesh, const vbl_material* material,
+                                   const vbl_affine* to_scene, const char* what);
+/* Frees the scene's surfaces and materials (scene release). */
+void vbl_scene_free_surfaces(vbl_scene* scene);
 /* Camera from the JSON fields (position, look_at, up, vertical fov in degrees, resolution). */
 vbl_result vbl_camera_make(vbl_vec3 position, vbl_vec3 look_at, vbl_vec3 up, double fov_deg, int width, int height,
                            vbl_camera* out);

@@ -12,7 +12,9 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_build.h"
+#include "scene/scene_frame.h"
 #include "scene/scene_json.h"
+#include "scene/scene_surfaces.h"
 
 #define VBL_COLOR_MAX 1e30
 
@@ -360,8 +362,9 @@ static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJ
                                  &o->vpl_clamp_distance)))
             return r;
     }
-    /* render.vbl: {"radius0" (world units, > 0), "alpha" in (0, 1)} (docs/readme/beams.md) */
-    static const char* const vbl_keys[] = {"radius0", "alpha", NULL};
+    /* render.vbl: {"radius0" (world units, > 0), "alpha" in (0, 1),
+     * "single_scattering": "equiangular" | "beams"} (docs/readme/beams.md) */
+    static const char* const vbl_keys[] = {"radius0", "alpha", "single_scattering", NULL};
     obj = NULL;
     if ((r = vbl_json_object(ctx, render, "render", "vbl", 0, &obj))) return r;
     if (obj) {
@@ -376,6 +379,33 @@ static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJ
         if (cJSON_HasObjectItem(obj, "alpha") && !(v > 0.0 && v < 1.0))
             return vbl_json_fail(ctx, "render.vbl.alpha = %g is outside (0, 1)", v);
         o->vbl_alpha = v;
+        const char* ss = NULL;
+        if ((r = vbl_json_string(ctx, obj, "render.vbl", "single_scattering", 0, &ss))) return r;
+        if (ss) {
+            if (!strcmp(ss, "equiangular"))
+                o->vbl_single_scattering = 1;
+            else if (!strcmp(ss, "beams"))
+                o->vbl_single_scattering = 2;
+            else
+                return vbl_json_fail(ctx, "render.vbl.single_scattering = \"%s\" is not one of equiangular, beams", ss);
+        }
+    }
+    /* render.beams: {"radius0" (world units, > 0), "alpha" in (0, 1)} (docs/readme/beams.md) */
+    static const char* const beams_keys[] = {"radius0", "alpha", NULL};
+    obj = NULL;
+    if ((r = vbl_json_object(ctx, render, "render", "beams", 0, &obj))) return r;
+    if (obj) {
+        if ((r = vbl_json_check_keys(ctx, obj, "render.beams", beams_keys))) return r;
+        double v = o->beams_radius0;
+        if ((r = vbl_json_number(ctx, obj, "render.beams", "radius0", 0, &v))) return r;
+        if (cJSON_HasObjectItem(obj, "radius0") && !(v > 0.0 && isfinite(v)))
+            return vbl_json_fail(ctx, "render.beams.radius0 = %g must be a finite number > 0", v);
+        o->beams_radius0 = v;
+        v = o->beams_alpha;
+        if ((r = vbl_json_number(ctx, obj, "render.beams", "alpha", 0, &v))) return r;
+        if (cJSON_HasObjectItem(obj, "alpha") && !(v > 0.0 && v < 1.0))
+            return vbl_json_fail(ctx, "render.beams.alpha = %g is outside (0, 1)", v);
+        o->beams_alpha = v;
     }
     return VBL_SUCCESS;
 }
@@ -383,7 +413,7 @@ static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJ
 static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
-                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", NULL};
+                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -392,7 +422,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
     const char* s = NULL;
     if ((r = vbl_json_string(ctx, obj, "render", "method", 0, &s))) return r;
     if (s && vbl_render_method_parse(s, &o->method))
-        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl, vbl", s);
+        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl, vbl, beams", s);
     double v = o->passes;
     if ((r = vbl_json_int(ctx, obj, "render", "passes", 0, 1, 1e9, &v))) return r;
     o->passes = (int)v;
@@ -428,9 +458,16 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
     return vbl_parse_estimator_settings(ctx, obj, o);
 }
 
+/* Surface colours go through the same conversion as media albedo (scene_surfaces.h). */
+static vbl_result vbl_surface_color(const vbl_json_ctx* ctx, const void* colors, const cJSON* obj,
+                                    const char* parent_field, const char* key, double min, double max, vbl_vec3* out)
+{
+    return vbl_parse_color(ctx, colors, obj, parent_field, key, 0, min, max, out);
+}
+
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
 {
-    static const char* const keys[] = {"camera", "lights", "media", "render", "color_space", NULL};
+    static const char* const keys[] = {"camera", "lights", "media", "render", "color_space", "surfaces", NULL};
     vbl_json_ctx ctx = {scene->path};
     vbl_result r;
     if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
@@ -488,6 +525,9 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             const char* override = NULL;
             if (options && options->vdb_overrides && i < options->vdb_override_count)
                 override = options->vdb_overrides[i];
+            char framed[1024]; /* VDB sequences: frame patterns (scene_frame.h) */
+            if ((r = vbl_scene_frame_vdb(ctx.path, field, m, dir, options, &override, framed, sizeof framed)))
+                return r;
             scene->media_count = i + 1; /* so a failure releases what was loaded */
             if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, &scene->media[i]))) return r;
         }
@@ -496,6 +536,8 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
     if (options && options->vdb_override_count > scene->media_count)
         return vbl_json_fail(&ctx, "%d VDB overrides given but the scene has %d media", options->vdb_override_count,
                              scene->media_count);
+
+    if ((r = vbl_scene_parse_surfaces(scene, &ctx, root, dir, vbl_surface_color, &colors))) return r;
 
     vbl_render_options defaults = VBL_RENDER_OPTIONS_DEFAULT;
     scene->render = defaults;

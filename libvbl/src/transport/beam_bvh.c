@@ -340,3 +340,31 @@ vbl_result vbl_beam_bvh_query(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, d
     }
     return VBL_SUCCESS;
 }
+
+void vbl_beam_bvh_visit(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, double length, vbl_beam_piece_visit_fn fn,
+                        void* user)
+{
+    if (bvh->node_count == 0 || !(length >= 0.0)) return;
+    double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
+    uint32_t stack[BVH_MAX_DEPTH + 8];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vbl_beam_bvh_node* n = &bvh->nodes[stack[--top]];
+        if (!segment_hits_box(oo, dd, length, n->lo, n->hi)) continue;
+        if (n->count == 0) {
+            stack[top++] = n->first;
+            stack[top++] = (uint32_t)(n - bvh->nodes) + 1u;
+            continue;
+        }
+        for (uint32_t i = n->first; i < n->first + n->count; ++i) {
+            const vbl_beam_piece* pc = &bvh->pieces[i];
+            const vbl_beam* b = &bvh->beams[pc->beam];
+            double pad = b->radius + 1e-7 * (b->radius + b->length + vbl_v3_length(b->origin) + length) + 1e-300;
+            if (vbl_segment_distance2(o, d, length, vbl_v3_madd(b->origin, b->direction, pc->t0), b->direction,
+                                      pc->t1 - pc->t0) > pad * pad)
+                continue;
+            fn(user, pc->beam, pc->t0, pc->t1);
+        }
+    }
+}

@@ -74,6 +74,15 @@ void vbl_beam_hits_free(vbl_beam_hits* hits);
  * beam indices within radius. Returns VBL_SUCCESS or VBL_ERROR_OUT_OF_MEMORY. */
 vbl_result vbl_beam_bvh_query(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, double length, vbl_beam_hits* hits);
 
+/* Visitor form for renderers (no allocation): calls fn(user, beam, t0, t1) once for every piece
+ * [t0, t1] of a beam (the pieces of a beam partition [0, length]) whose box the query segment
+ * meets and whose distance to it is at most the beam's radius (conservatively padded for
+ * rounding: a piece may be visited that a brute-force test would just exclude, never the
+ * reverse). Order: deterministic (the tree's), not by index. */
+typedef void (*vbl_beam_piece_visit_fn)(void* user, uint32_t beam, double t0, double t1);
+void vbl_beam_bvh_visit(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, double length, vbl_beam_piece_visit_fn fn,
+                        void* user);
+
 /* Squared distance between segments p0 + s d0 (s in [0, len0]) and p1 + t d1 (t in [0, len1]),
  * unit directions; exact closest-point computation, robust for parallel segments. */
 double vbl_segment_distance2(vbl_vec3 p0, vbl_vec3 d0, double len0, vbl_vec3 p1, vbl_vec3 d1, double len1);

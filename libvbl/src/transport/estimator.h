@@ -93,12 +93,44 @@ const vbl_estimator* vbl_estimator_for(vbl_render_method method);
 
 /* ---- shared medium queries over the scene's extinction field -------------------------- */
 
+/* 1 if a scene surface blocks origin + t direction for t in (0, t_max) (t_max may be INFINITY).
+ * The far end is pulled back by the surfaces' ray epsilon so that a segment ending on a surface
+ * (a light on a wall, a surface vertex) is not blocked by that surface; a segment starting on a
+ * surface must start from an offset origin (vbl_surface_spawn). No surfaces: 0, no Embree call. */
+static inline int vbl_ctx_occluded(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 direction, double t_max)
+{
+    const vbl_surfaces* s = ctx->scene->surfaces;
+    if (!s) return 0;
+    double t_end = t_max;
+    if (isfinite(t_max)) t_end = t_max - vbl_surfaces_ray_epsilon(s, vbl_v3_madd(origin, direction, t_max));
+    return t_end > 0.0 && vbl_surfaces_occluded(s, origin, direction, 0.0, t_end);
+}
+
+/* Origin for a ray leaving surface point p (geometric normal ng facing the arriving ray) in
+ * direction w: offset by the ray epsilon to the side w points to. */
+static inline vbl_vec3 vbl_surface_spawn(const vbl_surfaces* s, vbl_vec3 p, vbl_vec3 ng, vbl_vec3 w)
+{
+    double eps = vbl_surfaces_ray_epsilon(s, p);
+    return vbl_v3_madd(p, ng, vbl_v3_dot(ng, w) >= 0.0 ? eps : -eps);
+}
+
+/* Class of a contribution by the camera-visible vertex (1: surface, 0: medium) and the vertex
+ * before it in the light's flow: -1 the light itself (*_direct), 1 a surface, 0 a medium. */
+static inline vbl_transport_class vbl_class_for_vertices(int visible_is_surface, int previous)
+{
+    if (previous < 0) return visible_is_surface ? VBL_CLASS_SURFACE_DIRECT : VBL_CLASS_VOLUME_DIRECT;
+    if (visible_is_surface) return previous ? VBL_CLASS_SURFACE_FROM_SURFACE : VBL_CLASS_SURFACE_FROM_VOLUME;
+    return previous ? VBL_CLASS_VOLUME_FROM_SURFACE : VBL_CLASS_VOLUME_FROM_VOLUME;
+}
+
 /* One estimate of T along origin + t direction for t in [0, t_max] (t_max may be INFINITY),
- * clipped to the media's bounds, with ctx->tracking. */
+ * clipped to the media's bounds, with ctx->tracking; 0 when a surface blocks the segment
+ * (vbl_ctx_occluded). */
 static inline double vbl_ctx_transmittance(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                            vbl_vec3 direction, double t_max, vbl_rng* rng)
 {
     double t0, t1;
+    if (vbl_ctx_occluded(ctx, origin, direction, t_max)) return 0.0;
     if (ctx->extinction->count == 0 ||
         !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
         return 1.0;

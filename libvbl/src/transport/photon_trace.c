@@ -105,8 +105,10 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     double comps[VBL_MAX_MEDIA] = {0};
     double mid_comps[VBL_MAX_MEDIA] = {0};
     for (int k = 0;; ++k) {
-        double t0, t1;
-        if (!vbl_extinction_ray_bounds(ext, x, d, 0.0, INFINITY, &t0, &t1) || !(t1 > t0)) return;
+        double t0, t1, t_surface = INFINITY;
+        vbl_surface_hit hit; /* surfaces end the segment and absorb the photon (see photon_trace.h) */
+        if (scene->surfaces && vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit)) t_surface = hit.t;
+        if (!vbl_extinction_ray_bounds(ext, x, d, 0.0, t_surface, &t0, &t1) || !(t1 > t0)) return;
         double t = 0.0, sigma_t = 0.0;
         int collided = vbl_free_flight_sample(ext, cursor, x, d, t0, t1, use_global, rng, &t, &sigma_t, comps);
         if (st->store_vrls && (M < 0 || k + 2 <= M)) {
@@ -282,8 +284,15 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
 int vbl_camera_segment_cache(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 direction,
                              vbl_rng* rng, vbl_transmittance_cache* cache, double* u0, double* u1)
 {
-    if (ctx->extinction->count == 0 ||
-        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, INFINITY, u0, u1) || !(*u1 > *u0))
+    return vbl_camera_segment_cache_to(ctx, ts, origin, direction, INFINITY, rng, cache, u0, u1);
+}
+
+int vbl_camera_segment_cache_to(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_transmittance_cache* cache,
+                                double* u0, double* u1)
+{
+    if (ctx->extinction->count == 0 || !(t_max > 0.0) ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, u0, u1) || !(*u1 > *u0))
         return 0;
     vbl_transmittance_estimator kind =
         ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA ? VBL_TRANSMITTANCE_CACHED_DELTA

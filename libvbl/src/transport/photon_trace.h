@@ -26,6 +26,9 @@
  *   VPL k (vertex k >= 1): position, incident travel direction, power Phi_{k-1} arriving, and
  *          the per-medium fractions sigma_t,i / sigma_t at the vertex, so that the VPL's
  *          intensity toward w is Phi * sum_i fraction_i albedo_i HG_i(cos) (= Phi kernel/sigma_t).
+ * Surfaces (interim, until the virtual-light surface transports land): a photon's segment ends
+ * at the first surface along it (VRLs end there, long VRLs too) and the photon is absorbed
+ * there, so light reflected by surfaces is missing from the virtual-light methods (pt has it).
  * max_bounces M >= 0: only VRLs with k + 2 <= M and VPLs with k + 1 <= M are stored, and walks
  * stop as soon as nothing more can be stored. */
 #ifndef VBL_TRANSPORT_PHOTON_TRACE_H
@@ -91,5 +94,9 @@ double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t)
 struct vbl_transmittance_cache;
 int vbl_camera_segment_cache(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 direction,
                              vbl_rng* rng, struct vbl_transmittance_cache* cache, double* u0, double* u1);
+/* The same over the ray's first t_max units (the first surface, vbl_camera_sample.t_max). */
+int vbl_camera_segment_cache_to(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                vbl_vec3 direction, double t_max, vbl_rng* rng, struct vbl_transmittance_cache* cache,
+                                double* u0, double* u1);
 
 #endif

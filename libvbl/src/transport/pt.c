@@ -1,9 +1,15 @@
-/* Volumetric path tracer (reference). The estimator of the RTE without surfaces:
- *   L(x, w) = int_0^inf T(x, x_t) sigma_s(x_t) int p(w', w) L_i(x_t, w') dw' dt + T(x, x_inf) L_e
- * Free paths by delta tracking (collision density sigma_t T, so the throughput is multiplied by
- * the scattering kernel / sigma_t at a real collision); one light chosen uniformly per vertex
- * for NEE; quad/environment lights combine NEE and phase sampling by MIS (Veach 1997, eq. 9.13
- * balance / 9.14 power heuristic). Lights do not occlude and are occluded only by media. */
+/* Path tracer (reference) for media and opaque surfaces. The estimator of the RTE with a
+ * surface boundary (the rendering equation at surface points):
+ *   L(x, w) = int_0^s T(x, x_t) sigma_s(x_t) int p(w', w) L_i(x_t, w') dw' dt + T(x, x_s) L_o(x_s, w)
+ *   L_o(y, w) = int f(w, w') L_i(y, w') |cos theta'| dw'         (opaque, no emission)
+ * with s the distance to the first surface (INFINITY: the environment, L_o = L_env). Free paths by
+ * delta tracking clipped at the surface hit (collision density sigma_t T, so the throughput is
+ * multiplied by the scattering kernel / sigma_t at a real collision; reaching the surface has
+ * probability T(x, x_s)); one light chosen uniformly per vertex for NEE, with surface occlusion
+ * and media transmittance on the shadow ray; quad/environment lights combine NEE and
+ * phase/BRDF sampling by MIS (Veach 1997, eq. 9.13 balance / 9.14 power heuristic). Lights do
+ * not occlude; surfaces occlude everything. Contributions are classified by the camera-visible
+ * vertex and the vertex before it (vbl_class_for_vertices). */
 #include "transport/pt.h"
 
 #include <math.h>
@@ -18,17 +24,38 @@ static void vbl_add_scaled(vbl_vec3* acc, vbl_vec3 a, vbl_vec3 b, double s)
     acc->z += a.z * b.z * s;
 }
 
+/* Where a path stands: the kind of the camera-visible vertex and of the latest vertex. */
+typedef struct vbl_pt_path {
+    int events;            /* scattering events so far (surface or medium) */
+    int first_is_surface;  /* kind of vertex 1 */
+    int second;            /* kind of vertex 2: 1 surface, 0 medium, -1 none yet */
+} vbl_pt_path;
+
+/* Class of light arriving at the latest vertex from a light (events >= 1) or seen directly. */
+static vbl_transport_class vbl_pt_class(const vbl_pt_path* p)
+{
+    if (p->events <= 0) return VBL_CLASS_EMISSION;
+    return vbl_class_for_vertices(p->first_is_surface, p->events == 1 ? -1 : p->second);
+}
+
+static void vbl_pt_vertex(vbl_pt_path* p, int is_surface)
+{
+    ++p->events;
+    if (p->events == 1) p->first_is_surface = is_surface;
+    if (p->events == 2) p->second = is_surface;
+}
+
 /* Light of quad/environment lights seen along (origin, direction) before t_limit (INFINITY:
- * the ray escaped the media, so the environment is seen too). prev_pdf is the phase pdf of
- * direction (ignored for camera rays, scatter_events == 0). */
-static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 direction,
-                                      double t_limit, int scatter_events, double prev_pdf, vbl_vec3 beta,
-                                      vbl_sample_value* out)
+ * nothing blocks the ray, so the environment is seen too). prev_pdf is the phase/BRDF pdf of
+ * direction and `vertex` the scattering point it was sampled at (ignored for camera rays). */
+static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 vertex,
+                                      vbl_vec3 direction, double t_limit, const vbl_pt_path* path, double prev_pdf,
+                                      vbl_vec3 beta, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     if (!scene->has_visible_lights) return;
     double select_pdf = 1.0 / scene->light_count;
-    vbl_vec3* L = &out->L[vbl_class_for_scatter_events(scatter_events)];
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
     for (int i = 0; i < scene->light_count; ++i) {
         const vbl_light* light = &scene->lights[i];
         if (light->type == VBL_LIGHT_QUAD) {
@@ -40,27 +67,34 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
             continue;
         }
         double w = 1.0;
-        if (scatter_events > 0)
-            w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, origin, direction));
+        if (path->events > 0)
+            w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, vertex, direction));
         vbl_add_scaled(L, beta, light->color, w);
     }
 }
 
-/* Next-event estimation at a scattering vertex x reached travelling along `travel`. */
-static void vbl_pt_next_event(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x, vbl_vec3 travel,
-                              double sigma_t, const double* component_sigma_t, int scatter_events, vbl_vec3 beta,
-                              vbl_rng* rng, vbl_sample_value* out)
+/* Picks one light uniformly and samples it from x; 0 if the sample carries no light. */
+static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, vbl_rng* rng, vbl_light_sample* ls,
+                             double* select_pdf)
 {
-    const vbl_scene* scene = ctx->scene;
-    if (scene->light_count == 0) return;
-    double select_pdf = 1.0 / scene->light_count;
+    if (scene->light_count == 0) return 0;
+    *select_pdf = 1.0 / scene->light_count;
     int pick = (int)(vbl_rng_uniform(rng) * scene->light_count);
     if (pick >= scene->light_count) pick = scene->light_count - 1;
-    const vbl_light* light = &scene->lights[pick];
     double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+    if (!vbl_light_sample_incident(&scene->lights[pick], x, u1, u2, ls)) return 0;
+    return vbl_v3_max_component(ls->li) > 0.0;
+}
+
+/* Next-event estimation at a medium vertex x reached travelling along `travel`. */
+static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x,
+                                     vbl_vec3 travel, double sigma_t, const double* component_sigma_t,
+                                     const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
     vbl_light_sample ls;
-    if (!vbl_light_sample_incident(light, x, u1, u2, &ls)) return;
-    if (vbl_v3_max_component(ls.li) <= 0.0) return;
+    double select_pdf;
+    if (!vbl_pt_pick_light(scene, x, rng, &ls, &select_pdf)) return;
     double cos_theta = vbl_v3_dot(travel, ls.wi);
     vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
@@ -72,10 +106,39 @@ static void vbl_pt_next_event(const vbl_render_context* ctx, vbl_thread_state* t
                            vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
     /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
     double s = T * w / (select_pdf * ls.pdf * sigma_t);
-    vbl_vec3* L = &out->L[vbl_class_for_scatter_events(scatter_events)];
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
     L->x += beta.x * kernel.x * ls.li.x * s;
     L->y += beta.y * kernel.y * ls.li.y * s;
     L->z += beta.z * kernel.z * ls.li.z * s;
+}
+
+/* Next-event estimation at a surface hit (wo towards the previous vertex). */
+static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
+                                      vbl_vec3 wo, const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng,
+                                      vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_material* m = &scene->materials[hit->material];
+    vbl_light_sample ls;
+    double select_pdf;
+    if (!vbl_pt_pick_light(scene, hit->position, rng, &ls, &select_pdf)) return;
+    if (!(vbl_v3_dot(ls.wi, hit->geometric_normal) > 0.0)) return; /* below the surface: opaque */
+    double cos_i = vbl_v3_dot(ls.wi, hit->shading_normal);
+    if (!(cos_i > 0.0)) return;
+    vbl_vec3 f = vbl_material_eval(m, hit->shading_normal, wo, ls.wi);
+    if (!(vbl_v3_max_component(f) > 0.0)) return;
+    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, ls.wi);
+    double T = vbl_ctx_transmittance(ctx, ts, origin, ls.wi, ls.distance, rng);
+    if (!(T > 0.0)) return;
+    double w = 1.0;
+    if (!ls.is_delta)
+        w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
+                           vbl_material_pdf(m, hit->shading_normal, wo, ls.wi));
+    double s = T * w * cos_i / (select_pdf * ls.pdf);
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
+    L->x += beta.x * f.x * ls.li.x * s;
+    L->y += beta.y * f.y * ls.li.y * s;
+    L->z += beta.z * f.z * ls.li.z * s;
 }
 
 void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
@@ -84,38 +147,62 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     (void)store;
     const vbl_scene* scene = ctx->scene;
     const int max_bounces = ctx->options.max_bounces;
-    vbl_vec3 origin = sample->origin, direction = sample->direction;
+    vbl_vec3 origin = sample->origin, direction = sample->direction, vertex = sample->origin;
     vbl_vec3 beta = vbl_v3(1.0, 1.0, 1.0);
     double prev_pdf = 0.0;
     double components[VBL_MAX_MEDIA] = {0};
-    for (int scatter_events = 0;; ) {
+    vbl_pt_path path = {0, 0, -1};
+    for (;;) {
+        vbl_surface_hit hit;
+        int on_surface = vbl_surfaces_intersect(scene->surfaces, origin, direction, 0.0, INFINITY, &hit);
+        double t_surface = on_surface ? hit.t : INFINITY;
         double t = INFINITY, sigma_t = 0.0;
-        int collided = vbl_ctx_free_flight(ctx, ts, origin, direction, INFINITY, rng, &t, &sigma_t, components);
-        if (!collided) t = INFINITY;
-        vbl_pt_add_visible_lights(ctx, origin, direction, t, scatter_events, prev_pdf, beta, out);
-        if (!collided || !(sigma_t > 0.0)) break;
-        ++scatter_events;
-        if (max_bounces >= 0 && scatter_events > max_bounces) break;
-        vbl_vec3 x = vbl_v3_madd(origin, direction, t);
-        vbl_pt_next_event(ctx, ts, x, direction, sigma_t, components, scatter_events, beta, rng, out);
-        if (max_bounces >= 0 && scatter_events >= max_bounces) break;
-        /* continue by sampling the sigma_s-weighted phase mixture */
-        double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+        int collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
+        double t_limit = collided ? t : t_surface;
+        vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf, beta, out);
+        if (!collided && !on_surface) break; /* escaped */
+        if (collided && !(sigma_t > 0.0)) break;
+
+        vbl_pt_vertex(&path, !collided);
+        if (max_bounces >= 0 && path.events > max_bounces) break;
+        double u0, u1, u2;
         vbl_vec3 wi;
         double pdf = 0.0;
-        if (!vbl_media_sample_phase(scene, components, direction, u0, u1, u2, &wi, &pdf)) break;
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, wi));
-        double s = 1.0 / (pdf * sigma_t);
-        beta = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
+        if (collided) {
+            vbl_vec3 x = vbl_v3_madd(origin, direction, t);
+            vbl_pt_next_event_medium(ctx, ts, x, direction, sigma_t, components, &path, beta, rng, out);
+            if (max_bounces >= 0 && path.events >= max_bounces) break;
+            /* continue by sampling the sigma_s-weighted phase mixture */
+            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            if (!vbl_media_sample_phase(scene, components, direction, u0, u1, u2, &wi, &pdf)) break;
+            vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, wi));
+            double s = 1.0 / (pdf * sigma_t);
+            beta = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
+            origin = vertex = x;
+        } else {
+            vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
+            vbl_pt_next_event_surface(ctx, ts, &hit, wo, &path, beta, rng, out);
+            if (max_bounces >= 0 && path.events >= max_bounces) break;
+            /* continue by sampling the BRDF; reflection only (opaque surfaces) */
+            const vbl_material* m = &scene->materials[hit.material];
+            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            vbl_vec3 f;
+            if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
+            double cos_i = vbl_v3_dot(wi, hit.shading_normal);
+            if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) break;
+            double s = cos_i / pdf;
+            beta = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
+            vertex = hit.position;
+            origin = vbl_surface_spawn(scene->surfaces, hit.position, hit.geometric_normal, wi);
+        }
         if (!(vbl_v3_max_component(beta) > 0.0)) break;
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
-        if (scatter_events >= 3) {
+        if (path.events >= 3) {
             double q = fmin(1.0, vbl_v3_max_component(beta));
             if (vbl_rng_uniform(rng) >= q) break;
             beta = vbl_v3_scale(beta, 1.0 / q);
         }
         prev_pdf = pdf;
-        origin = x;
         direction = wi;
     }
 }

@@ -18,11 +18,17 @@ static void vbl_ss_add(vbl_vec3* acc, vbl_vec3 kernel, vbl_vec3 li, double s)
 void vbl_single_scatter_estimate(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                  vbl_vec3 direction, vbl_rng* rng, vbl_vec3* radiance)
 {
+    vbl_single_scatter_estimate_to(ctx, ts, origin, direction, INFINITY, rng, radiance);
+}
+
+void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                    vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_vec3* radiance)
+{
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
-    if (ext->count == 0 || scene->light_count == 0) return;
+    if (ext->count == 0 || scene->light_count == 0 || !(t_max > 0.0)) return;
     double t0, t1;
-    if (!vbl_extinction_ray_bounds(ext, origin, direction, 0.0, INFINITY, &t0, &t1) || !(t1 > t0)) return;
+    if (!vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0)) return;
     double components[VBL_MAX_MEDIA] = {0};
     int has_non_delta = 0;
 
@@ -74,7 +80,8 @@ static void vbl_single_scatter_camera_sample(const vbl_render_context* ctx, cons
                                              const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
     (void)store;
-    vbl_single_scatter_estimate(ctx, ts, sample->origin, sample->direction, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    vbl_single_scatter_estimate_to(ctx, ts, sample->origin, sample->direction, sample->t_max, rng,
+                                   &out->L[VBL_CLASS_VOLUME_DIRECT]);
 }
 
 const vbl_estimator vbl_estimator_single_scatter = {"single-scatter", 0, NULL, vbl_single_scatter_camera_sample,

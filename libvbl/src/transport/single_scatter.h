@@ -16,6 +16,10 @@
  * (unit) to *radiance. */
 void vbl_single_scatter_estimate(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                  vbl_vec3 direction, vbl_rng* rng, vbl_vec3* radiance);
+/* The same over the camera ray's first t_max units only (the first surface hit,
+ * vbl_camera_sample.t_max); shadow rays are blocked by surfaces (vbl_ctx_transmittance). */
+void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                    vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_vec3* radiance);
 
 /* An estimator that produces only volume_direct (tests, and the single-scattering preview). */
 extern const vbl_estimator vbl_estimator_single_scatter;

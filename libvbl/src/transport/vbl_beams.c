@@ -7,6 +7,7 @@
 #include "render/radius_schedule.h"
 #include "sampling/vbl_pair.h"
 #include "transport/light_emission.h"
+#include "transport/photon_beams.h"
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
 #include "transport/vrl.h"
@@ -17,6 +18,8 @@ typedef struct vbl_vbl_store {
     vbl_photon_store photons;
     double g_camera; /* HG g the sampler uses at camera points (any value is unbiased) */
     double radius;   /* R_p of this pass */
+    vbl_photon_beam_gather* beams; /* beams_single_scattering: bounce-0 photon beams */
+    double beam_radius;
 } vbl_vbl_store;
 
 void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings* out)
@@ -27,18 +30,10 @@ void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings
     if (o->vbl_alpha > 0.0) out->alpha = o->vbl_alpha;
     if (o->vrl_samples > 0) out->samples = o->vrl_samples;
     out->long_vrls = o->vrl_long != 0;
-}
-
-/* R_0 when none is given: radius_schedule.h's k sqrt(V / L) over the cube inscribed in the media's
- * bounding sphere (half side r / sqrt(3)) and this pass's total VRL length. */
-static double vbl_vbl_default_r0(const vbl_scene* scene, const vbl_photon_store* photons)
-{
-    vbl_vec3 c;
-    double r = 0.0;
-    if (!vbl_media_bounding_sphere(scene, &c, &r) || !(r > 0.0)) return 0.0;
-    double h = r / sqrt(3.0), L = 0.0;
-    for (size_t j = 0; j < photons->vrl_count; ++j) L += photons->vrls[j].length;
-    return vbl_radius_default_r0(vbl_v3(c.x - h, c.y - h, c.z - h), vbl_v3(c.x + h, c.y + h, c.z + h), L, 0.0);
+    out->beams_single_scattering =
+        o->vbl_single_scattering == 0 ? VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT : o->vbl_single_scattering == 2;
+    if (o->beams_radius0 > 0.0) out->beams_radius0 = o->beams_radius0;
+    if (o->beams_alpha > 0.0) out->beams_alpha = o->beams_alpha;
 }
 
 vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_settings* settings, void** store)
@@ -65,15 +60,40 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
         g += wi * m->g;
     }
     s->g_camera = w > 0.0 ? g / w : 0.0;
-    vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
-    if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
-    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    if (settings->beams_single_scattering && !(settings->beams_alpha > 0.0 && settings->beams_alpha <= 1.0)) {
+        free(s);
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: beams alpha = %g is outside (0, 1]", scene->path,
+                         settings->beams_alpha);
+    }
+    const int M = ctx->options.max_bounces;
+    vbl_result r;
+    if (settings->beams_single_scattering) {
+        /* one trace for both: beams need k + 1 <= M, the VBLs skip k + 2 > M below */
+        r = vbl_photon_beams_trace(ctx, settings->long_vrls, &s->photons);
+    } else {
+        vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+        if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
+        r = vbl_photon_trace(ctx, &ps, &s->photons);
+    }
     if (r) {
         free(s);
         return r;
     }
-    double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_vbl_default_r0(scene, &s->photons);
+    /* R_0 when none is given: radius_schedule.h's k sqrt(V / L) over the cube inscribed in the
+     * media's bounding sphere and this pass's total length of the VRLs the VBLs use */
+    double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_beams_default_radius(scene, &s->photons, M, 2, 0);
     s->radius = vbl_radius_at_pass(r0, settings->alpha, 2, ctx->pass);
+    if (settings->beams_single_scattering && M != 0) {
+        double b0 = settings->beams_radius0 > 0.0 ? settings->beams_radius0
+                                                  : vbl_beams_default_radius(scene, &s->photons, M, 1, 1);
+        s->beam_radius = vbl_radius_at_pass(b0, settings->beams_alpha, 1, ctx->pass);
+        r = vbl_photon_beam_gather_build(ctx, &s->photons, s->beam_radius, 1, 0, &s->beams);
+        if (r) {
+            vbl_photon_store_free(&s->photons);
+            free(s);
+            return r;
+        }
+    }
     *store = s;
     return VBL_SUCCESS;
 }
@@ -90,6 +110,7 @@ void vbl_vbl_pass_end(const vbl_render_context* ctx, void* store)
     (void)ctx;
     vbl_vbl_store* s = store;
     if (!s) return;
+    vbl_photon_beam_gather_free(s->beams);
     vbl_photon_store_free(&s->photons);
     free(s);
 }
@@ -128,12 +149,15 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const vbl_vec3 o = sample->origin, d = sample->direction;
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
-    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
-    if (!s || s->photons.vrl_count == 0 || !(s->radius > 0.0)) return;
+    const int beams_direct = s && s->settings.beams_single_scattering;
+    if (!beams_direct && M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (!s || s->photons.vrl_count == 0) return;
 
-    vbl_transmittance_cache cache;
+    vbl_transmittance_cache cache; /* one camera-ray cache for the beams and the VBLs */
     double u0, u1;
-    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
+    if (beams_direct) vbl_photon_beam_gather_eval_cached(ctx, s->beams, ts, &cache, o, d, u0, u1, out);
+    if (!(s->radius > 0.0)) return;
     const int S = s->settings.samples, n = s->settings.kernel_samples;
     const double R = s->radius;
     double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];

@@ -33,12 +33,23 @@ typedef struct vbl_vbl_settings {
     int samples;        /* (u, v) samples per VRL / camera-ray pair, >= 1 */
     int kernel_samples; /* directions per strategy of the VSL kernel, >= 1 */
     int long_vrls;      /* 1: VRLs to the media exit with cached transmittance */
+    /* volume_direct: 0 the shared equiangular estimator (single_scatter.h), 1 progressive photon
+     * beams of bounce 0 from the same photon tracing (photon_beams.h; the trace then also keeps
+     * the bounce-(M-1) segments the VBLs skip) with their own width schedule: */
+    int beams_single_scattering;
+    double beams_radius0; /* <= 0: default from the scene and the bounce-0 beams' length */
+    double beams_alpha;   /* (0, 1]: eq 11 with d = 1 */
 } vbl_vbl_settings;
 
 #define VBL_VBL_KERNEL_SAMPLES_DEFAULT 16
-#define VBL_VBL_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_VBL_KERNEL_SAMPLES_DEFAULT, 0}
+#define VBL_VBL_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_VBL_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7}
+/* What render options' vbl_single_scattering = 0 selects (measured on samples/cloud.json,
+ * docs/readme/beams.md): 0 equiangular, 1 photon beams. */
+#define VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT 0
 
-/* From render options: vbl_radius0, vbl_alpha (0: 0.7), vrl_samples (0: 1), vrl_long. */
+/* From render options: vbl_radius0, vbl_alpha (0: 0.7), vrl_samples (0: 1), vrl_long,
+ * vbl_single_scattering (0: VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT, 1: equiangular, 2: beams),
+ * beams_radius0, beams_alpha (0: 0.7). */
 void vbl_vbl_settings_from_options(const vbl_render_options* options, vbl_vbl_settings* out);
 
 extern const vbl_estimator vbl_estimator_vbl;

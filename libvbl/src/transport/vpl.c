@@ -78,12 +78,12 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const vbl_vec3 o = sample->origin, d = sample->direction;
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
-    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (!s || s->photons.vpl_count == 0) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;
-    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
     double comps[VBL_MAX_MEDIA];
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);

@@ -110,6 +110,7 @@ double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tr
                                         vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng)
 {
     double t0, t1;
+    if (vbl_ctx_occluded(ctx, a, dir, len)) return 0.0; /* surfaces block the connection */
     if (!vbl_extinction_ray_bounds(ctx->extinction, a, dir, 0.0, len, &t0, &t1) || !(t1 > t0)) return 1.0;
     return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, a, dir, t0, t1, settings, rng);
 }
@@ -122,12 +123,12 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const vbl_vec3 o = sample->origin, d = sample->direction;
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
-    if (M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (!s || s->photons.vrl_count == 0) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;
-    if (!vbl_camera_segment_cache(ctx, ts, o, d, rng, &cache, &u0, &u1)) return;
+    if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     const int S = s->settings.samples;
     const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
     double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];

@@ -50,7 +50,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
 void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store);
 
 /* One estimate of T along a + t dir, t in [0, len] (the segment connecting a virtual-light point
- * and a camera-ray point), clipped to the media; 1 outside them. */
+ * and a camera-ray point), clipped to the media; 1 outside them; 0 when a surface blocks it. */
 double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
                                      vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng);
 

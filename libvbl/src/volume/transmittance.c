@@ -9,7 +9,17 @@
  *  - ray marching (biased): T = exp(-sum sigma_t(t_k) dt), jittered regular steps.
  * Segments whose rate is 0 cost no lookup. Ratio estimators apply Russian roulette once the weight
  * falls below VBL_RR_THRESHOLD (survive with probability w / threshold, weight := threshold):
- * unbiased, and it bounds the work in dense media. */
+ * unbiased, and it bounds the work in dense media.
+ *
+ * Homogeneous segments (majorant == minorant > 0: every trilinear sample in the block, neighbour
+ * shell included, is the same value sigma, e.g. the inside of a constant-density box) use the
+ * closed form and cost no lookup: transmittance estimators multiply by exp(-sigma len) exactly
+ * (delta, ratio and residual alike; ray marching adds sigma len to the optical depth), and
+ * free-flight sampling draws the collision analytically, t = t0 - log(1 - u) / sigma, which is
+ * exactly delta tracking's law there (with mu = sigma every tentative collision is real). The
+ * per-component sigma_t at such a collision is the block value for one medium and one lookup for
+ * several. (For several overlapping media the equality is of the summed bounds, so a component
+ * could vary by at most an ulp of the sum: below double precision of T.) */
 #include "volume/transmittance.h"
 
 #include <float.h>
@@ -26,7 +36,32 @@ typedef struct vbl_tracker {
     double weight;
     double t_stop, sigma_stop;
     vbl_rng* rng;
+    int sampling; /* 1: free-flight sampling (a real collision must be produced, not a weight) */
 } vbl_tracker;
+
+/* A segment of constant, known extinction (see above). */
+static inline int vbl_segment_homogeneous(const vbl_majorant_segment* seg)
+{
+    return seg->majorant > 0.0 && seg->majorant == seg->minorant;
+}
+
+/* Russian roulette of the ratio estimators on a small weight (shared by the closed form). */
+static int vbl_tracker_roulette(vbl_tracker* tr)
+{
+    if (tr->weight <= 0.0) {
+        tr->weight = 0.0;
+        return VBL_TRACK_STOP;
+    }
+    if (tr->kind != VBL_TRANSMITTANCE_DELTA_TRACKING && tr->weight < VBL_RR_THRESHOLD) {
+        double survive = tr->weight / VBL_RR_THRESHOLD;
+        if (vbl_rng_uniform(tr->rng) >= survive) {
+            tr->weight = 0.0;
+            return VBL_TRACK_STOP;
+        }
+        tr->weight = VBL_RR_THRESHOLD;
+    }
+    return VBL_TRACK_CONTINUE;
+}
 
 /* Reacts to a tentative collision at t with sigma_t, sampled with rate mu over control sigma_c. */
 static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double sigma_c)
@@ -73,6 +108,24 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
     const int residual = tr->kind == VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
+        if (vbl_segment_homogeneous(&seg)) {
+            const double sigma = seg.majorant;
+            if (tr->sampling) { /* analytic exponential free flight */
+                double t = vbl_exp_step(seg.t0, sigma, tr->rng);
+                if (t >= seg.t1) continue;
+                tr->t_stop = t;
+                tr->sigma_stop = sigma;
+                tr->weight = 0.0;
+                if (per_component) {
+                    if (ext->count == 1) per_component[0] = sigma;
+                    else vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
+                }
+                return VBL_TRACK_STOP;
+            }
+            tr->weight *= exp(-sigma * (seg.t1 - seg.t0));
+            if (vbl_tracker_roulette(tr) == VBL_TRACK_STOP) return VBL_TRACK_STOP;
+            continue;
+        }
         double sigma_c = residual ? seg.minorant : 0.0;
         double mu = seg.majorant - sigma_c;
         if (residual && sigma_c > 0.0) {
@@ -126,6 +179,10 @@ static double vbl_ray_march(const vbl_extinction* ext, vbl_extinction_cursor* cu
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, s->use_global_majorant);
     while (vbl_extinction_iter_next(&iter, &seg)) {
         if (!(seg.majorant > 0.0)) continue;
+        if (vbl_segment_homogeneous(&seg)) { /* exact optical depth, no lookups */
+            tau += seg.majorant * (seg.t1 - seg.t0);
+            continue;
+        }
         double k = ceil((seg.t0 - t0) / h - u);
         if (k < 0.0) k = 0.0;
         for (;; k += 1.0) {
@@ -172,7 +229,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RATIO_TRACKING:
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
-        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng};
+        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -186,7 +243,7 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -202,13 +259,28 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0};
     int records = 0;
     double t_last = t0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
         double mu = seg.majorant;
         if (!(mu > 0.0)) continue;
+        if (vbl_segment_homogeneous(&seg)) {
+            /* Ratio tracking with mu = sigma: the first tentative point zeroes the weight, so the
+             * step function drops to 0 at an exponential distance: drawn analytically, no lookup
+             * (a step function cannot hold exp(-sigma t) itself). */
+            double t = vbl_exp_step(seg.t0, mu, rng);
+            if (t >= seg.t1) continue;
+            if (records == max_records) {
+                double d;
+                if (vbl_free_flight_sample(ext, cursor, origin, direction, t_last, t1, use_global, rng, &d, NULL, NULL))
+                    record(user, d, 0.0);
+                return records + 1;
+            }
+            record(user, t, 0.0);
+            return records + 1;
+        }
         double t = seg.t0;
         for (;;) {
             t = vbl_exp_step(t, mu, rng);

@@ -123,7 +123,9 @@ class _SceneLoadOptions(ctypes.Structure):
                 # vbl_result (*convert_color)(void* user, const char* color_space, const char* field,
                 # double rgb[3]); left NULL here (a scene naming a color_space then fails to load)
                 ("convert_color", ctypes.c_void_p),
-                ("convert_color_user", ctypes.c_void_p)]
+                ("convert_color_user", ctypes.c_void_p),
+                ("frame", ctypes.c_int),
+                ("use_frame", ctypes.c_int)]
 
 
 class _RenderProgress(ctypes.Structure):
@@ -162,7 +164,10 @@ class _RenderOptions(ctypes.Structure):
                 ("vpl_clamp_distance", ctypes.c_double),
                 ("vbl_radius0", ctypes.c_double),
                 ("vbl_alpha", ctypes.c_double),
-                ("first_pass", ctypes.c_int)]
+                ("first_pass", ctypes.c_int),
+                ("vbl_single_scattering", ctypes.c_int),
+                ("beams_radius0", ctypes.c_double),
+                ("beams_alpha", ctypes.c_double)]
 
 
 class _FilmStats(ctypes.Structure):
@@ -342,7 +347,7 @@ RENDER_OPTION_FIELDS = tuple(name for name, _ in _RenderOptions._fields_ if name
 def _default_render_options():
     # VBL_RENDER_OPTIONS_DEFAULT
     return _RenderOptions(ctypes.sizeof(_RenderOptions), 0, 16, 4, 10000, 0, 0.0, 0, -1, 1, 0,
-                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0)
+                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0)
 
 
 def _options_to_dict(options):
@@ -441,15 +446,19 @@ class Volume:
 
 class Scene:
     """A JSON scene (vbl_scene_load_ex). `vdb_overrides`: list replacing media[i].vdb (None keeps
-    the scene's path)."""
+    the scene's path). `frame`: the frame number for VDB sequence patterns ("smoke.####.vdb",
+    "%04d") in media[i].vdb and the overrides; None: a pattern fails the load."""
 
-    def __init__(self, path, vdb_overrides=None):
+    def __init__(self, path, vdb_overrides=None, frame=None):
         self._handle = None
         overrides = [None if p is None else _encode(os.fspath(p)) for p in (vdb_overrides or [])]
         array = (ctypes.c_char_p * max(len(overrides), 1))(*overrides)
         options = _SceneLoadOptions(ctypes.sizeof(_SceneLoadOptions),
                                     ctypes.cast(array, ctypes.POINTER(ctypes.c_char_p)) if overrides else None,
                                     len(overrides))
+        if frame is not None:
+            options.frame = int(frame)
+            options.use_frame = 1
         handle = _P()
         _check(_scene_load_ex(_encode(os.fspath(path)), ctypes.byref(options), ctypes.byref(handle)))
         self._handle = handle

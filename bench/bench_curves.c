@@ -1,0 +1,596 @@
+/* Issue-4 benchmark: error-vs-time curves of every method and every quality preset against a
+ * long pt reference, on the sample cloud and on a dense anisotropic cloud.
+ *
+ *   build/bench/bench_curves [--budget 30] [--reference-seconds 240] [--res 96x72] [--threads 2]
+ *       [--scenes cloud,dense] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only]
+ *       [--vdb build/samples/cloud.vdb] [--csv build/bench/curves.csv]
+ *
+ * Error: rMAE = sum |I - Iref| / sum |Iref| over all pixels and R, G, B of one layer: beauty, each
+ * transport layer the scene produces, and "medium" = beauty - emission (the light the medium
+ * scatters; the headline number, because the directly seen environment is exact in every method
+ * and would dilute the beauty's error).
+ *
+ * Every configuration is ONE progressive vbl_render call; its pass callback takes
+ * vbl_render_snapshot of the film so far, computes the rMAE of every layer and records it with
+ * the render's elapsed time minus the time spent in earlier callbacks (the bench's own cost).
+ * Methods stop at --budget seconds; presets run their own pass count (capped at 4x the budget).
+ * Time to reach rMAE 0.1 / 0.05 is interpolated log-log between the last point above and the
+ * first point at or below the threshold.
+ *
+ * The reference is two independent pt halves of reference-seconds / 2 each, cached in the build
+ * directory (bench/bench_curves_ref_<scene>_<W>x<H>.raw with its settings in the .txt beside it),
+ * reused when scene, VDB, resolution, seconds and layers match. Its own error (the rMAE floor of
+ * every curve) is estimated as rMAE(half A, half B) / 2, printed and written to the CSV as a row
+ * with method "reference_floor", pass 0 and the reference's seconds.
+ *
+ * CSV columns: method,scene,pass,seconds,rmae_beauty,rmae_emission,...,rmae_volume_from_volume,
+ * rmae_medium (empty where the scene has no such layer). */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/scene.h"
+#include "vbl/vbl.h"
+
+#ifndef VBL_BENCH_DEFAULT_VDB
+#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
+#endif
+#ifndef VBL_BENCH_SOURCE_DIR
+#define VBL_BENCH_SOURCE_DIR "."
+#endif
+#ifndef VBL_BENCH_CACHE_DIR
+#define VBL_BENCH_CACHE_DIR "."
+#endif
+
+/* ---- what is compared: one line per scene / method --------------------------------------- */
+
+typedef struct bench_scene {
+    const char* name;
+    const char* file;        /* relative to the source tree */
+    double reference_factor; /* x --reference-seconds (pt converges slower on the dense cloud) */
+} bench_scene;
+
+static const bench_scene bench_scenes[] = {
+    {"cloud", "samples/cloud.json", 1.0},            /* density 12, albedo 0.95, g = 0.5 */
+    {"dense", "bench/scenes/cloud_dense.json", 2.5}, /* density 48, albedo 0.95, g = 0.8 */
+};
+
+/* Methods by name (skipped when this build does not know or implement them): pass settings
+ * chosen from bench_methods (equal-time light-path counts) and the presets. */
+typedef struct bench_method {
+    const char* label;
+    const char* method;
+    int spp, light_paths;
+} bench_method;
+
+static const bench_method bench_methods[] = {
+    {"pt", "pt", 4, 0},
+    {"vpl", "vpl", 1, 100},
+    {"vrl", "vrl", 1, 30},
+    {"vbl", "vbl", 1, 10},
+    {"beams", "beams", 1, 100},
+};
+
+static const char* const bench_presets[] = {"preview", "production", "final"};
+
+/* ---- layers ------------------------------------------------------------------------------ */
+
+#define MAX_LAYERS 9
+#define MEDIUM 8
+#define VFV 7
+static const char* const all_layers[MAX_LAYERS] = {"",
+                                                   "emission",
+                                                   "surface_direct",
+                                                   "volume_direct",
+                                                   "surface_from_surface",
+                                                   "surface_from_volume",
+                                                   "volume_from_surface",
+                                                   "volume_from_volume",
+                                                   "medium"};
+
+static const char* layer_label(int l) { return l == 0 ? "beauty" : all_layers[l]; }
+
+typedef struct reference {
+    int n;                   /* pixels */
+    int present[MAX_LAYERS]; /* layer in the reference film */
+    float* halves;           /* [2][MAX_LAYERS][n * 3] */
+    float* ref;              /* [MAX_LAYERS][n * 3]: mean of the halves */
+    double floor_rmae[MAX_LAYERS];
+} reference;
+
+/* RGB of a layer into out[n * 3]; 0 when the film lacks it. */
+static int film_rgb(const vbl_film* film, int l, int n, float* out)
+{
+    int ch = 0;
+    if (l == MEDIUM) { /* beauty - emission */
+        const float* b = vbl_film_layer(film, "", &ch);
+        int che = 0;
+        const float* e = vbl_film_layer(film, "emission", &che);
+        if (!b || ch < 3) {
+            memset(out, 0, sizeof(float) * 3 * (size_t)n);
+            return 0;
+        }
+        for (int i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k)
+                out[3 * i + k] = b[(size_t)ch * i + k] - (e && che >= 3 ? e[(size_t)che * i + k] : 0.0f);
+        return 1;
+    }
+    const float* p = vbl_film_layer(film, all_layers[l], &ch);
+    if (!p || ch < 3) {
+        memset(out, 0, sizeof(float) * 3 * (size_t)n);
+        return 0;
+    }
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) out[3 * i + k] = p[(size_t)ch * i + k];
+    return 1;
+}
+
+static double rmae(const float* img, const float* ref, int count)
+{
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < count; ++i) {
+        num += fabs((double)img[i] - ref[i]);
+        den += fabs((double)ref[i]);
+    }
+    return den > 0.0 ? num / den : NAN;
+}
+
+/* ---- arguments --------------------------------------------------------------------------- */
+
+typedef struct bench_args {
+    const char* vdb;
+    const char* csv;
+    int width, height, threads;
+    double budget, reference_seconds;
+    char scenes[256], methods[256];
+    int presets, methods_on;
+} bench_args;
+
+static int in_list(const char* list, const char* name)
+{
+    size_t len = strlen(name);
+    for (const char* s = list; *s;) {
+        const char* e = strchr(s, ',');
+        size_t l = e ? (size_t)(e - s) : strlen(s);
+        if (l == len && !strncmp(s, name, len)) return 1;
+        if (!e) break;
+        s = e + 1;
+    }
+    return 0;
+}
+
+static vbl_scene* load_scene(const bench_args* a, const bench_scene* s)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", VBL_BENCH_SOURCE_DIR, s->file);
+    const char* overrides[1] = {a->vdb};
+    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+    lo.vdb_overrides = overrides;
+    lo.vdb_override_count = 1;
+    vbl_scene* scene = NULL;
+    if (vbl_scene_load_ex(path, &lo, &scene)) {
+        fprintf(stderr, "bench_curves: %s\n", vbl_last_error_message());
+        exit(1);
+    }
+    /* same field of view at the bench resolution (the scene is not shared yet) */
+    scene->camera.width = a->width;
+    scene->camera.height = a->height;
+    return scene;
+}
+
+/* ---- reference --------------------------------------------------------------------------- */
+
+static int load_reference(const char* raw, const char* txt, const char* want, reference* r)
+{
+    FILE* f = fopen(txt, "r");
+    if (!f) return 0;
+    char have[2048] = {0};
+    size_t got = fread(have, 1, sizeof have - 1, f);
+    fclose(f);
+    have[got] = '\0';
+    char* nl = strchr(have, '\n');
+    if (!nl) return 0;
+    *nl = '\0';
+    if (strcmp(have, want)) return 0;
+    /* second line: the present flags */
+    for (int l = 0; l < MAX_LAYERS; ++l) {
+        if (nl[1 + l] != '0' && nl[1 + l] != '1') return 0;
+        r->present[l] = nl[1 + l] == '1';
+    }
+    f = fopen(raw, "rb");
+    if (!f) return 0;
+    size_t want_count = (size_t)2 * MAX_LAYERS * 3 * r->n;
+    size_t count = fread(r->halves, sizeof(float), want_count, f);
+    fclose(f);
+    return count == want_count;
+}
+
+static void render_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
+{
+    for (int h = 0; h < 2; ++h) {
+        vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+        vbl_scene_render_options(scene, &o);
+        o.method = VBL_RENDER_PT;
+        o.spp = 4;
+        o.passes = 1 << 30;
+        o.time_limit = 0.5 * a->reference_seconds * s->reference_factor;
+        o.seed = 4242u + 7919u * (uint64_t)h;
+        o.threads = a->threads;
+        vbl_film* film = NULL;
+        if (vbl_render(scene, &o, &film)) {
+            fprintf(stderr, "bench_curves: %s\n", vbl_last_error_message());
+            exit(1);
+        }
+        vbl_film_stats st;
+        memset(&st, 0, sizeof st);
+        st.size = sizeof st;
+        vbl_film_get_stats(film, &st);
+        printf("# reference half %d: pt %d passes x %d spp in %.1f s\n", h, st.passes, st.spp, st.render_seconds);
+        for (int l = 0; l < MAX_LAYERS; ++l)
+            r->present[l] = film_rgb(film, l, r->n, r->halves + ((size_t)h * MAX_LAYERS + l) * 3 * r->n);
+        vbl_film_release(film);
+    }
+}
+
+static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
+{
+    r->n = a->width * a->height;
+    size_t per = (size_t)MAX_LAYERS * 3 * r->n;
+    r->halves = calloc(2 * per, sizeof(float));
+    r->ref = calloc(per, sizeof(float));
+    if (!r->halves || !r->ref) exit(1);
+    char raw[1024], txt[1024], want[2048];
+    snprintf(raw, sizeof raw, "%s/bench_curves_ref_%s_%dx%d.raw", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
+    snprintf(txt, sizeof txt, "%s/bench_curves_ref_%s_%dx%d.txt", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
+    snprintf(want, sizeof want, "scene=%s vdb=%s res=%dx%d method=pt spp=4 seconds=%g halves=2 layers=%d rgb", s->file,
+             a->vdb, a->width, a->height, a->reference_seconds * s->reference_factor, MAX_LAYERS);
+    if (load_reference(raw, txt, want, r)) {
+        printf("# reference %s: cached %s\n", s->name, raw);
+    } else {
+        render_reference(scene, a, s, r);
+        char tmp[1100];
+        snprintf(tmp, sizeof tmp, "%s.tmp", raw);
+        FILE* f = fopen(tmp, "wb");
+        if (f && fwrite(r->halves, sizeof(float), 2 * per, f) == 2 * per && !fclose(f)) {
+            rename(tmp, raw);
+            f = fopen(txt, "w");
+            if (f) {
+                fprintf(f, "%s\n", want);
+                for (int l = 0; l < MAX_LAYERS; ++l) fputc(r->present[l] ? '1' : '0', f);
+                fputc('\n', f);
+                fclose(f);
+            }
+        } else {
+            if (f) fclose(f);
+            fprintf(stderr, "bench_curves: cannot write %s (reference not cached)\n", tmp);
+        }
+    }
+    for (size_t i = 0; i < per; ++i) r->ref[i] = 0.5f * (r->halves[i] + r->halves[per + i]);
+    for (int l = 0; l < MAX_LAYERS; ++l) {
+        r->floor_rmae[l] = NAN;
+        if (!r->present[l]) continue;
+        const float* a0 = r->halves + (size_t)l * 3 * r->n;
+        const float* b0 = r->halves + per + (size_t)l * 3 * r->n;
+        /* E|A - B| = 2 E|mean - truth| for independent halves with equal (normal) noise */
+        double num = 0.0, den = 0.0;
+        for (int i = 0; i < 3 * r->n; ++i) {
+            num += fabs((double)a0[i] - b0[i]);
+            den += fabs(0.5 * ((double)a0[i] + b0[i]));
+        }
+        r->floor_rmae[l] = den > 0.0 ? 0.5 * num / den : NAN;
+        printf("# reference %s %-20s own rMAE (floor) ~ %.4f\n", s->name, layer_label(l), r->floor_rmae[l]);
+    }
+    int vd = 3, vfv = VFV;
+    if (r->present[vd] && r->present[vfv]) {
+        double svd = 0.0, svfv = 0.0;
+        for (int i = 0; i < 3 * r->n; ++i) {
+            svd += r->ref[(size_t)vd * 3 * r->n + i];
+            svfv += r->ref[(size_t)vfv * 3 * r->n + i];
+        }
+        printf("# reference %s: volume_from_volume / volume_direct (sums over the image) = %.3f\n", s->name,
+               svd > 0.0 ? svfv / svd : NAN);
+    }
+}
+
+/* ---- one progressive render -------------------------------------------------------------- */
+
+typedef struct curve_point {
+    int pass;
+    double seconds;
+    double err[MAX_LAYERS];
+    double ratio[MAX_LAYERS]; /* sum I / sum Iref: a layer's bias shows here */
+} curve_point;
+
+typedef struct curve {
+    const reference* ref;
+    double budget;     /* stop after the pass that passes it; <= 0: run all passes */
+    double max_seconds;
+    double overhead;   /* seconds spent in this callback so far */
+    double next_record;
+    float* img;
+    curve_point* points;
+    int count, capacity;
+    int stopped;
+} curve;
+
+static int on_pass(const vbl_render_progress* progress, void* user)
+{
+    curve* c = user;
+    double t0 = omp_get_wtime();
+    double seconds = progress->elapsed_seconds - c->overhead;
+    int last = progress->pass >= progress->passes;
+    int stop = (c->budget > 0.0 && seconds >= c->budget) || seconds >= c->max_seconds;
+    /* record every pass up to 16, then passes ~6% apart, and always the last one */
+    if (progress->pass <= 16 || progress->pass >= c->next_record || last || stop) {
+        vbl_film* film = NULL;
+        if (vbl_render_snapshot(progress, &film)) {
+            fprintf(stderr, "bench_curves: %s\n", vbl_last_error_message());
+            exit(1);
+        }
+        if (c->count == c->capacity) {
+            c->capacity = c->capacity ? 2 * c->capacity : 64;
+            c->points = realloc(c->points, sizeof *c->points * (size_t)c->capacity);
+            if (!c->points) exit(1);
+        }
+        curve_point* p = &c->points[c->count++];
+        p->pass = progress->pass;
+        p->seconds = seconds;
+        for (int l = 0; l < MAX_LAYERS; ++l) {
+            p->err[l] = p->ratio[l] = NAN;
+            if (!c->ref->present[l]) continue;
+            film_rgb(film, l, c->ref->n, c->img);
+            const float* rl = c->ref->ref + (size_t)l * 3 * c->ref->n;
+            p->err[l] = rmae(c->img, rl, 3 * c->ref->n);
+            double si = 0.0, sr = 0.0;
+            for (int i = 0; i < 3 * c->ref->n; ++i) {
+                si += c->img[i];
+                sr += rl[i];
+            }
+            p->ratio[l] = sr != 0.0 ? si / sr : NAN;
+        }
+        vbl_film_release(film);
+        c->next_record = progress->pass * 1.06;
+    }
+    c->overhead += omp_get_wtime() - t0;
+    if (stop && !last) c->stopped = 1;
+    return stop;
+}
+
+/* First time the layer's rMAE reaches `threshold`, interpolated log-log; NAN if never. */
+static double time_to(const curve* c, int l, double threshold)
+{
+    for (int i = 0; i < c->count; ++i) {
+        double e = c->points[i].err[l];
+        if (!(e <= threshold)) continue;
+        if (i == 0) return c->points[0].seconds;
+        double e0 = c->points[i - 1].err[l], t0 = c->points[i - 1].seconds, t1 = c->points[i].seconds;
+        if (!(e0 > threshold) || !(t0 > 0.0) || e <= 0.0) return t1;
+        double f = (log(threshold) - log(e0)) / (log(e) - log(e0));
+        return exp(log(t0) + f * (log(t1) - log(t0)));
+    }
+    return NAN;
+}
+
+typedef struct run_summary {
+    char label[64];
+    char settings[160];
+    int ok;
+    int passes;
+    double seconds;
+    double err_end[MAX_LAYERS], ratio_end[MAX_LAYERS];
+    double t10[MAX_LAYERS], t05[MAX_LAYERS];
+} run_summary;
+
+static void run_one(const vbl_scene* scene, const bench_args* a, const reference* ref, const char* scene_name,
+                    const vbl_render_options* base, double budget, const char* label, FILE* csv, run_summary* out)
+{
+    memset(out, 0, sizeof *out);
+    snprintf(out->label, sizeof out->label, "%s", label);
+    curve c;
+    memset(&c, 0, sizeof c);
+    c.ref = ref;
+    c.budget = budget;
+    c.max_seconds = budget > 0.0 ? 1e30 : 4.0 * a->budget;
+    c.img = malloc(sizeof(float) * 3 * (size_t)ref->n);
+    if (!c.img) exit(1);
+    vbl_render_options o = *base;
+    o.threads = a->threads;
+    o.callback = on_pass;
+    o.callback_user_data = &c;
+    if (budget > 0.0)
+        snprintf(out->settings, sizeof out->settings, "%s spp=%d lp=%d", vbl_render_method_name(o.method), o.spp,
+                 o.light_paths);
+    else
+        snprintf(out->settings, sizeof out->settings, "%s %d passes x spp=%d lp=%d alpha=%g",
+                 vbl_render_method_name(o.method), o.passes, o.spp, o.light_paths, o.vbl_alpha);
+    vbl_film* film = NULL;
+    vbl_result r = vbl_render(scene, &o, &film);
+    if (film) vbl_film_release(film);
+    if (r && r != VBL_ERROR_INTERRUPTED) {
+        printf("# %s %s: skipped (%s)\n", scene_name, label, vbl_last_error_message());
+        free(c.img);
+        free(c.points);
+        return;
+    }
+    out->ok = c.count > 0;
+    if (!out->ok) {
+        free(c.img);
+        return;
+    }
+    const curve_point* last = &c.points[c.count - 1];
+    out->passes = last->pass;
+    out->seconds = last->seconds;
+    for (int l = 0; l < MAX_LAYERS; ++l) {
+        out->err_end[l] = last->err[l];
+        out->ratio_end[l] = last->ratio[l];
+        out->t10[l] = time_to(&c, l, 0.1);
+        out->t05[l] = time_to(&c, l, 0.05);
+    }
+    if (c.stopped && budget <= 0.0)
+        printf("# %s %s: stopped at the cap of %.0f s after %d of %d passes\n", scene_name, label, c.max_seconds,
+               last->pass, o.passes);
+    for (int i = 0; csv && i < c.count; ++i) {
+        const curve_point* p = &c.points[i];
+        fprintf(csv, "%s,%s,%d,%.4f", label, scene_name, p->pass, p->seconds);
+        for (int l = 0; l < MAX_LAYERS; ++l) {
+            if (isnan(p->err[l])) fprintf(csv, ",");
+            else fprintf(csv, ",%.6f", p->err[l]);
+        }
+        fputc('\n', csv);
+    }
+    if (csv) fflush(csv);
+    free(c.img);
+    free(c.points);
+}
+
+static void print_time(double t)
+{
+    if (isnan(t)) printf(" not reached |");
+    else printf(" %.2f s |", t);
+}
+
+int main(int argc, char** argv)
+{
+    bench_args a;
+    memset(&a, 0, sizeof a);
+    a.vdb = VBL_BENCH_DEFAULT_VDB;
+    a.csv = VBL_BENCH_CACHE_DIR "/curves.csv";
+    a.width = 96;
+    a.height = 72;
+    a.threads = 2;
+    a.budget = 30.0;
+    a.reference_seconds = 240.0;
+    a.presets = 1;
+    a.methods_on = 1;
+    snprintf(a.scenes, sizeof a.scenes, "cloud,dense");
+    snprintf(a.methods, sizeof a.methods, "pt,vpl,vrl,vbl,beams");
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--no-presets")) {
+            a.presets = 0;
+            continue;
+        }
+        if (!strcmp(argv[i], "--presets-only")) {
+            a.methods_on = 0;
+            continue;
+        }
+        const char* v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!v) goto usage;
+        if (!strcmp(argv[i], "--vdb")) a.vdb = v;
+        else if (!strcmp(argv[i], "--csv")) a.csv = v;
+        else if (!strcmp(argv[i], "--res")) {
+            if (sscanf(v, "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1) goto usage;
+        } else if (!strcmp(argv[i], "--budget")) a.budget = atof(v);
+        else if (!strcmp(argv[i], "--reference-seconds")) a.reference_seconds = atof(v);
+        else if (!strcmp(argv[i], "--threads")) a.threads = atoi(v);
+        else if (!strcmp(argv[i], "--scenes")) snprintf(a.scenes, sizeof a.scenes, "%s", v);
+        else if (!strcmp(argv[i], "--methods")) snprintf(a.methods, sizeof a.methods, "%s", v);
+        else goto usage;
+        ++i;
+    }
+    if (!(a.budget > 0.0) || !(a.reference_seconds > 0.0) || a.threads < 0) goto usage;
+
+    FILE* csv = fopen(a.csv, "w");
+    if (!csv) {
+        fprintf(stderr, "bench_curves: cannot write %s\n", a.csv);
+        return 1;
+    }
+    fprintf(csv, "method,scene,pass,seconds");
+    for (int l = 0; l < MAX_LAYERS; ++l) fprintf(csv, ",rmae_%s", layer_label(l));
+    fputc('\n', csv);
+
+    double load[3] = {0};
+    FILE* lf = fopen("/proc/loadavg", "r");
+    if (lf) {
+        if (fscanf(lf, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3) load[0] = -1;
+        fclose(lf);
+    }
+    printf("# bench_curves: %dx%d, threads %d, budget %g s per method, reference %g s, load average at start "
+           "%.2f %.2f %.2f\n",
+           a.width, a.height, a.threads, a.budget, a.reference_seconds, load[0], load[1], load[2]);
+    fflush(stdout);
+
+    enum { MAX_RUNS = 16 };
+    for (size_t s = 0; s < sizeof bench_scenes / sizeof bench_scenes[0]; ++s) {
+        const bench_scene* bs = &bench_scenes[s];
+        if (!in_list(a.scenes, bs->name)) continue;
+        vbl_scene* scene = load_scene(&a, bs);
+        reference ref;
+        memset(&ref, 0, sizeof ref);
+        make_reference(scene, &a, bs, &ref);
+        fflush(stdout);
+        /* the reference's own error: one row per scene, method "reference_floor", pass 0 */
+        fprintf(csv, "reference_floor,%s,0,%.1f", bs->name, a.reference_seconds * bs->reference_factor);
+        for (int l = 0; l < MAX_LAYERS; ++l) {
+            if (isnan(ref.floor_rmae[l])) fprintf(csv, ",");
+            else fprintf(csv, ",%.6f", ref.floor_rmae[l]);
+        }
+        fputc('\n', csv);
+        run_summary runs[MAX_RUNS];
+        int rc = 0;
+        for (size_t m = 0; a.methods_on && m < sizeof bench_methods / sizeof bench_methods[0]; ++m) {
+            const bench_method* bm = &bench_methods[m];
+            vbl_render_method method;
+            if (!in_list(a.methods, bm->label)) continue;
+            if (vbl_render_method_parse(bm->method, &method)) {
+                printf("# method %s: not in this build, skipped\n", bm->method);
+                continue;
+            }
+            vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+            vbl_scene_render_options(scene, &o);
+            o.method = method;
+            o.spp = bm->spp;
+            o.light_paths = bm->light_paths;
+            o.passes = 1 << 30;
+            o.seed = 1000003u + 31u * (uint64_t)m;
+            run_one(scene, &a, &ref, bs->name, &o, a.budget, bm->label, csv, &runs[rc]);
+            if (runs[rc].ok) ++rc;
+        }
+        for (size_t p = 0; a.presets && p < sizeof bench_presets / sizeof bench_presets[0]; ++p) {
+            vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+            vbl_scene_render_options(scene, &o);
+            if (vbl_render_options_apply_preset(bench_presets[p], &o)) {
+                printf("# preset %s: %s\n", bench_presets[p], vbl_last_error_message());
+                continue;
+            }
+            o.seed = 2000003u + 31u * (uint64_t)p;
+            run_one(scene, &a, &ref, bs->name, &o, 0.0, bench_presets[p], csv, &runs[rc]);
+            if (runs[rc].ok) ++rc;
+        }
+        /* time to 0.1 / 0.05 for beauty and volume_from_volume, end error for every layer */
+        printf("\n### %s (reference floor: medium %.4f, beauty %.4f, volume_from_volume %.4f)\n\n", bs->name,
+               ref.floor_rmae[MEDIUM], ref.floor_rmae[0], ref.floor_rmae[VFV]);
+        printf("| run | settings | passes | seconds | medium rMAE | beauty rMAE | vfv rMAE | medium t(0.1) | "
+               "medium t(0.05) | beauty t(0.1) | beauty t(0.05) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for (int i = 0; i < rc; ++i) {
+            const run_summary* r = &runs[i];
+            printf("| %s | %s | %d | %.2f | %.4f | %.4f | %.4f |", r->label, r->settings, r->passes, r->seconds,
+                   r->err_end[MEDIUM], r->err_end[0], r->err_end[VFV]);
+            print_time(r->t10[MEDIUM]);
+            print_time(r->t05[MEDIUM]);
+            print_time(r->t10[0]);
+            print_time(r->t05[0]);
+            putchar('\n');
+        }
+        printf("\n| run | end rMAE (sum / reference sum) per layer |\n|---|---|\n");
+        for (int i = 0; i < rc; ++i) {
+            printf("| %s |", runs[i].label);
+            for (int l = 1; l < MEDIUM; ++l)
+                if (ref.present[l]) printf(" %s %.4f (%.3f)", layer_label(l), runs[i].err_end[l], runs[i].ratio_end[l]);
+            printf(" |\n");
+        }
+        printf("\n");
+        fflush(stdout);
+        free(ref.halves);
+        free(ref.ref);
+        vbl_scene_release(scene);
+    }
+    fclose(csv);
+    return 0;
+usage:
+    fprintf(stderr, "usage: bench_curves [--budget S] [--reference-seconds S] [--res WxH] [--threads N] "
+                    "[--scenes cloud,dense] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only] "
+                    "[--vdb FILE] [--csv FILE]\n");
+    return 2;
+}
