@@ -3,6 +3,7 @@
  *
  *   build/bench/bench_curves [--budget 30] [--reference-seconds 240] [--res 96x72] [--threads 2]
  *       [--scenes cloud,dense] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only]
+ *       [--vbl-radius0 R] [--vbl-alpha A] (vbl's method run; 0: defaults)
  *       [--vdb build/samples/cloud.vdb] [--csv build/bench/curves.csv]
  *
  * Error: rMAE = sum |I - Iref| / sum |Iref| over all pixels and R, G, B of one layer: beauty, each
@@ -146,6 +147,7 @@ typedef struct bench_args {
     double budget, reference_seconds;
     char scenes[256], methods[256];
     int presets, methods_on;
+    double vbl_radius0, vbl_alpha; /* for the method runs; 0: the library's defaults */
 } bench_args;
 
 static int in_list(const char* list, const char* name)
@@ -486,10 +488,14 @@ int main(int argc, char** argv)
         else if (!strcmp(argv[i], "--threads")) a.threads = atoi(v);
         else if (!strcmp(argv[i], "--scenes")) snprintf(a.scenes, sizeof a.scenes, "%s", v);
         else if (!strcmp(argv[i], "--methods")) snprintf(a.methods, sizeof a.methods, "%s", v);
+        else if (!strcmp(argv[i], "--vbl-radius0")) a.vbl_radius0 = atof(v);
+        else if (!strcmp(argv[i], "--vbl-alpha")) a.vbl_alpha = atof(v);
         else goto usage;
         ++i;
     }
-    if (!(a.budget > 0.0) || !(a.reference_seconds > 0.0) || a.threads < 0) goto usage;
+    if (!(a.budget > 0.0) || !(a.reference_seconds > 0.0) || a.threads < 0 || a.vbl_radius0 < 0.0 ||
+        a.vbl_alpha < 0.0 || a.vbl_alpha >= 1.0)
+        goto usage;
 
     FILE* csv = fopen(a.csv, "w");
     if (!csv) {
@@ -544,6 +550,8 @@ int main(int argc, char** argv)
             o.light_paths = bm->light_paths;
             o.passes = 1 << 30;
             o.seed = 1000003u + 31u * (uint64_t)m;
+            o.vbl_radius0 = a.vbl_radius0;
+            o.vbl_alpha = a.vbl_alpha;
             run_one(scene, &a, &ref, bs->name, &o, a.budget, bm->label, csv, &runs[rc]);
             if (runs[rc].ok) ++rc;
         }
@@ -591,6 +599,6 @@ int main(int argc, char** argv)
 usage:
     fprintf(stderr, "usage: bench_curves [--budget S] [--reference-seconds S] [--res WxH] [--threads N] "
                     "[--scenes cloud,dense] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only] "
-                    "[--vdb FILE] [--csv FILE]\n");
+                    "[--vbl-radius0 R] [--vbl-alpha A] [--vdb FILE] [--csv FILE]\n");
     return 2;
 }

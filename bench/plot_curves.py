@@ -82,15 +82,15 @@ def main():
             ax.text(1.0, y, " %g" % y, transform=ax.get_yaxis_transform(), va="center", fontsize=8, color="0.4")
         if scene in floors:
             ax.axhline(floors[scene], color="k", lw=0.7)
-            ax.text(0.01, floors[scene], "reference's own error %.3f" % floors[scene],
-                    transform=ax.get_yaxis_transform(), va="bottom", fontsize=7)
+            ax.text(0.99, floors[scene], "reference's own error %.3f" % floors[scene],
+                    transform=ax.get_yaxis_transform(), va="bottom", ha="right", fontsize=7)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("seconds (96x72, 2 threads)")
         ax.set_ylabel("rMAE of %s vs long pt reference" % args.layer)
         ax.set_title(TITLES.get(scene, scene), fontsize=10)
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-        ax.legend(fontsize=8, loc="upper right")
+        ax.legend(fontsize=8, loc="lower left", framealpha=0.9)
     fig.tight_layout()
     fig.savefig(args.output, dpi=110)
     print("plot_curves: wrote %s" % args.output)

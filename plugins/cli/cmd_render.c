@@ -33,6 +33,9 @@ static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene*
     if (args->max_bounces != LONG_MIN) options->max_bounces = (int)args->max_bounces;
     if (args->vbl_radius0 > 0.0) options->vbl_radius0 = args->vbl_radius0;
     if (args->vbl_alpha > 0.0) options->vbl_alpha = args->vbl_alpha;
+    if (args->beams_radius0 > 0.0) options->beams_radius0 = args->beams_radius0;
+    if (args->beams_alpha > 0.0) options->beams_alpha = args->beams_alpha;
+    if (args->vbl_single_scattering > 0) options->vbl_single_scattering = args->vbl_single_scattering;
     options->threads = (int)args->threads;
     if (args->pass_first >= 0) {
         options->first_pass = (int)args->pass_first;

@@ -22,6 +22,8 @@ typedef struct vbl_render_args {
     long passes, spp, light_paths, threads, max_bounces, seed; /* max_bounces: LONG_MIN = not given */
     double time_limit;                                          /* < 0: not given */
     double vbl_radius0, vbl_alpha;                              /* --vbl-radius0/--vbl-alpha; < 0: not given */
+    double beams_radius0, beams_alpha;                          /* --beams-radius0/--beams-alpha; < 0: not given */
+    int vbl_single_scattering;                                  /* --vbl-single-scattering: 0 not given, 1, 2 */
     int quiet;
     /* EXR storage */
     int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */

@@ -17,13 +17,18 @@ static void vbl_render_usage(FILE* out)
             "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
             "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
             "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
-            "  --method pt|vpl|vrl|vbl    rendering method\n"
+            "  --method pt|vpl|vrl|vbl|beams  rendering method\n"
             "  --passes N                 progressive passes (N >= 1)\n"
             "  --spp N                    camera samples per pixel per pass (N >= 1)\n"
             "  --light-paths N            light paths per pass (vpl, vrl, vbl)\n"
             "  --vbl-radius0 R            vbl: initial VSL radius in world units (default: from the scene's\n"
             "                             size and the VRL density)\n"
             "  --vbl-alpha A              vbl: radius reduction per pass, A in (0, 1) (default 0.7)\n"
+            "  --vbl-single-scattering equiangular|beams\n"
+            "                             vbl: volume_direct by equiangular sampling (default) or photon beams\n"
+            "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
+            "                             half-width in world units (default: from the scene and beam density)\n"
+            "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"
             "  --seed S                   random seed (integer >= 0)\n"
             "  --time-limit SEC           stop after the pass that exceeds SEC seconds (0: none)\n"
             "  --max-bounces N            scattering events per path (-1: unlimited)\n"
@@ -135,6 +140,7 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     args->max_bounces = LONG_MIN;
     args->time_limit = -1.0;
     args->vbl_radius0 = args->vbl_alpha = -1.0;
+    args->beams_radius0 = args->beams_alpha = -1.0;
     args->compression = -1;
     args->pass_first = args->pass_last = -1;
 
@@ -186,6 +192,14 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             ok = vbl_parse_double(v, 0.0, 1e300, &args->vbl_radius0) && args->vbl_radius0 > 0.0;
         else if (!strcmp(a, "--vbl-alpha"))
             ok = vbl_parse_double(v, 0.0, 1.0, &args->vbl_alpha) && args->vbl_alpha > 0.0 && args->vbl_alpha < 1.0;
+        else if (!strcmp(a, "--beams-radius0"))
+            ok = vbl_parse_double(v, 0.0, 1e300, &args->beams_radius0) && args->beams_radius0 > 0.0;
+        else if (!strcmp(a, "--beams-alpha"))
+            ok = vbl_parse_double(v, 0.0, 1.0, &args->beams_alpha) && args->beams_alpha > 0.0;
+        else if (!strcmp(a, "--vbl-single-scattering")) {
+            ok = !strcmp(v, "equiangular") || !strcmp(v, "beams");
+            if (ok) args->vbl_single_scattering = !strcmp(v, "beams") ? 2 : 1;
+        }
         else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
         else if (!strcmp(a, "--half-layers")) args->half_layers = v;
         else if (!strcmp(a, "--compression")) ok = vbl_parse_compression(v, &args->compression);

@@ -132,6 +132,12 @@ static void test_bad_colour_space_and_flags(void** state)
     expect_failure(args, 2, "--aov", 1);
     snprintf(args, sizeof args, "'%s' -o '%s' --half-layers Z", scene, ct_path(dir, "out.exr"));
     expect_failure(args, 2, "--half-layers", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --vbl-single-scattering photons", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--vbl-single-scattering", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --beams-alpha 0", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--beams-alpha", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --beams-radius0 -1", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--beams-radius0", 1);
 }
 
 int main(void)

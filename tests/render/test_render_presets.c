@@ -55,7 +55,9 @@ static void test_each_preset_sets_settings(void** state)
         o.max_bounces = 9;
         o.first_pass = 4;
         assert_int_equal(vbl_render_options_apply_preset(presets[i], &o), VBL_SUCCESS);
-        assert_true((int)o.method >= VBL_RENDER_PT && (int)o.method <= VBL_RENDER_VBL);
+        vbl_render_method round_trip = (vbl_render_method)99;
+        assert_int_equal(vbl_render_method_parse(vbl_render_method_name(o.method), &round_trip), VBL_SUCCESS);
+        assert_int_equal(round_trip, o.method); /* a method this build knows */
         assert_true(o.passes >= 1);
         assert_true(o.spp >= 1);
         assert_true(o.light_paths >= 0);

@@ -11,6 +11,7 @@
 
 #include "chi2.h"
 #include "core/rng.h"
+#include "quad.h"
 #include "surface_test_util.h"
 #include "transport/surface_cone_kernel.h"
 
@@ -141,12 +142,112 @@ static void test_kernel_extremes(void** state)
     }
 }
 
+/* ---- vbl_surface_lobe_sample: chi-square over the sphere against vbl_surface_lobe_pdf ---- */
+#define NC 20
+#define NPH 8
+#define NLOBE_SAMPLES 200000
+
+typedef struct sph_ctx {
+    const vbl_surface_lobe* l;
+    vbl_vec3 axis, t, b;
+    double c;
+} sph_ctx;
+static vbl_vec3 sph_dir(const sph_ctx* k, double c, double phi)
+{
+    double s = sqrt(fmax(0.0, 1.0 - c * c));
+    return vbl_v3_add(vbl_v3_scale(k->axis, c), vbl_v3_add(vbl_v3_scale(k->t, s * cos(phi)), vbl_v3_scale(k->b, s * sin(phi))));
+}
+
+/* cell edges in cos about the lobe's peak: dense near the peak */
+static double c_edge(int i) { double q = (double)i / NC; return 1.0 - 2.0 * q * q; }
+
+static int lobe_chi2(const char* label, const vbl_surface_lobe* l, vbl_vec3 axis, uint64_t seed, int tests)
+{
+    sph_ctx k = {l, axis, vbl_v3(0, 0, 0), vbl_v3(0, 0, 0), 0.0};
+    vbl_v3_basis(axis, &k.t, &k.b);
+    double obs[NC * NPH + 1] = {0}, expct[NC * NPH + 1];
+    vbl_rng rng = vbl_rng_make(seed, 5, 0);
+    long mismatch = 0;
+    for (int i = 0; i < NLOBE_SAMPLES; ++i) {
+        vbl_vec3 w;
+        double p;
+        double u0 = vbl_rng_uniform(&rng), u1 = vbl_rng_uniform(&rng), u2 = vbl_rng_uniform(&rng);
+        if (!vbl_surface_lobe_sample(l, u0, u1, u2, &w, &p)) {
+            obs[NC * NPH] += 1.0; /* no direction drawn: the cell of the missing mass */
+            continue;
+        }
+        double q = vbl_surface_lobe_pdf(l, w);
+        if (!(fabs(p - q) <= 1e-9 * fmax(p, q))) ++mismatch;
+        double c = vbl_clamp(vbl_v3_dot(w, axis), -1.0, 1.0);
+        int ci = 0;
+        while (ci + 1 < NC && c < c_edge(ci + 1)) ++ci;
+        double phi = atan2(vbl_v3_dot(w, k.b), vbl_v3_dot(w, k.t));
+        if (phi < 0.0) phi += 2.0 * VBL_PI;
+        int pi = (int)(phi / (2.0 * VBL_PI) * NPH);
+        pi = pi < 0 ? 0 : (pi >= NPH ? NPH - 1 : pi);
+        obs[ci * NPH + pi] += 1.0;
+    }
+    double total = 0.0;
+    for (int ci = 0; ci < NC; ++ci)
+        for (int pi = 0; pi < NPH; ++pi) {
+            /* GL16 x GL16 over sub-cells (4 x 2): the pdfs are smooth within a cell up to the horizon kink */
+            double m = 0.0;
+            const double x16[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274, 0.6178762444026438,
+                                   0.7554044083550030, 0.8656312023878318, 0.9445750230732326, 0.9894009349916499};
+            const double w16[8] = {0.1894506104550685, 0.1826034150449236, 0.1691565193950025, 0.1495959888165767,
+                                   0.1246289712555339, 0.0951585116824928, 0.0622535239386479, 0.0271524594117541};
+            double c0 = c_edge(ci + 1), c1 = c_edge(ci);
+            double p0 = 2.0 * VBL_PI * pi / NPH, p1 = 2.0 * VBL_PI * (pi + 1) / NPH;
+            for (int sc = 0; sc < 4; ++sc)
+                for (int sp = 0; sp < 2; ++sp) {
+                    double a0 = c0 + (c1 - c0) * sc / 4, a1 = c0 + (c1 - c0) * (sc + 1) / 4;
+                    double b0 = p0 + (p1 - p0) * sp / 2, b1 = p0 + (p1 - p0) * (sp + 1) / 2;
+                    double ha = 0.5 * (a1 - a0), ma = 0.5 * (a1 + a0), hb = 0.5 * (b1 - b0), mb = 0.5 * (b1 + b0);
+                    for (int i = 0; i < 16; ++i)
+                        for (int j = 0; j < 16; ++j) {
+                            double xa = i < 8 ? -x16[7 - i] : x16[i - 8], wa = i < 8 ? w16[7 - i] : w16[i - 8];
+                            double xb = j < 8 ? -x16[7 - j] : x16[j - 8], wb = j < 8 ? w16[7 - j] : w16[j - 8];
+                            m += wa * wb * ha * hb * vbl_surface_lobe_pdf(l, sph_dir(&k, ma + ha * xa, mb + hb * xb));
+                        }
+                }
+            total += m;
+            expct[ci * NPH + pi] = NLOBE_SAMPLES * m;
+        }
+    expct[NC * NPH] = NLOBE_SAMPLES * fmax(0.0, 1.0 - total);
+    printf("     %s: pdf integral %.6f, pdf mismatches %ld, no-direction draws %.0f\n", label, total, mismatch,
+           obs[NC * NPH]);
+    return vbl_chi2_check(label, obs, expct, NC * NPH + 1, 0.01, tests) && mismatch == 0 && total <= 1.0 + 1e-3;
+}
+
+static vbl_vec3 reflect(vbl_vec3 n, vbl_vec3 w) { return vbl_v3_sub(vbl_v3_scale(n, 2.0 * vbl_v3_dot(n, w)), w); }
+
+static void test_lobe_sampling_chi2(void** state)
+{
+    (void)state;
+    setup_materials();
+    vbl_vec3 n = vbl_v3_normalize(vbl_v3(0.1, -0.2, 1.0)), w = vbl_v3_normalize(vbl_v3(0.5, 0.2, 0.8));
+    int ok = 1;
+    for (int mi = 0; mi < 3; ++mi) {
+        vbl_surface_lobe r = vbl_surface_lobe_receiver(&g_mat[mi], n, w);
+        vbl_surface_lobe s = vbl_surface_lobe_sender(&g_mat[mi], n, w);
+        char label[64];
+        snprintf(label, sizeof label, "receiver lobe %s", st_material_name(mi));
+        ok &= lobe_chi2(label, &r, vbl_v3_scale(reflect(n, w), -1.0), 40 + mi, 7);
+        snprintf(label, sizeof label, "sender lobe %s", st_material_name(mi));
+        ok &= lobe_chi2(label, &s, reflect(n, w), 50 + mi, 7);
+    }
+    vbl_surface_lobe ph = vbl_surface_lobe_phase(0.8, w);
+    ok &= lobe_chi2("phase lobe g=0.8", &ph, w, 60, 7);
+    assert_true(ok);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kernel_unbiased),
         cmocka_unit_test(test_kernel_r0_and_limit),
         cmocka_unit_test(test_kernel_extremes),
+        cmocka_unit_test(test_lobe_sampling_chi2),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

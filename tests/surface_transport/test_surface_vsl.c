@@ -75,10 +75,9 @@ static double sfs_reference(const vbl_surface_point* sp, const vbl_surface_vsl_s
         vbl_surface_lobe a = vbl_surface_lobe_receiver(sp->material, sp->normal, sp->wo);
         vbl_surface_lobe b = vbl_surface_lobe_sender(&st->materials[v->material], v->normal, v->incident);
         if (radius > 0.0) {
-            /* per channel power: mean(P A B) with P grey-ish; use the channel-resolved form */
-            vbl_surface_lobe bb = b;
-            double k = st_cone_reference(&a, &bb, sp->position, v->position, radius);
-            s += t * k * st_mean3(v->power); /* powers below are checked grey enough: see caller */
+            /* the brute force integrates mean(A B): exact for grey powers (the caller sets them) */
+            double k = st_cone_reference(&a, &b, sp->position, v->position, radius);
+            s += t * k * st_mean3(v->power);
         } else {
             vbl_vec3 d = vbl_v3_sub(sp->position, v->position);
             double w2 = vbl_v3_dot(d, d);

@@ -34,7 +34,7 @@ typedef struct vbl_scene_load_options {
     /* Scene colours in a named input space. When the scene has a top-level "color_space", this
      * is called at load for every light colour (intensity / irradiance / radiance) and every
      * medium albedo, before their range checks, with the scene's colour space name, the field
-     * ("lights[0].intensity", "media[1].albedo") and the RGB as written; it converts `rgb` in
+     * ("lights[0].intensity", "media[1].albedo", "surfaces[0].material.albedo" / ".specular") and the RGB as written; it converts `rgb` in
      * place into the caller's scene_linear space (libvbl itself has no colour management; the
      * `vbl` command converts through OpenColorIO). A non-success result fails the load with that
      * result and the message "<file>: color_space = \"X\" (<field>): <callback's message>".

@@ -2,6 +2,7 @@
 #include "transport/photon_beams.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 #include "render/radius_schedule.h"
@@ -41,7 +42,12 @@ vbl_result vbl_photon_beams_trace(const vbl_render_context* ctx, int long_vrls, 
      * M + 1 that is k + 1 <= M: every beam that can end one scattering event later at the camera. */
     vbl_render_context c = *ctx;
     if (c.options.max_bounces >= 0) c.options.max_bounces += 1;
-    vbl_photon_settings ps = {1, 0, long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+    vbl_photon_settings ps;
+    memset(&ps, 0, sizeof ps); /* fields added later stay 0 */
+    ps.store_vrls = 1;
+    ps.long_vrls = long_vrls;
+    ps.cache_kind = VBL_TRANSMITTANCE_CACHED_RATIO;
+    ps.cache_entries = 16;
     if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
     return vbl_photon_trace(&c, &ps, out);
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "sampling/phase_hg.h"
 #include "scene/media.h"
 #include "transport/light_emission.h"
 #include "volume/transmittance_cache.h"
@@ -21,6 +22,8 @@ typedef struct vbl_photon_block {
     size_t vpl_count, vpl_cap;
     double* pool;
     size_t pool_count, pool_cap; /* pairs */
+    vbl_surface_vsl* vsls;
+    size_t vsl_count, vsl_cap;
     int failed;
 } vbl_photon_block;
 
@@ -49,6 +52,25 @@ double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t)
     return w > 0.0 ? g / w : 0.0;
 }
 
+vbl_surface_vsl_store vbl_photon_store_surface_view(const vbl_photon_store* store, const vbl_scene* scene)
+{
+    vbl_surface_vsl_store v;
+    v.vsls = store->surface_vsls;
+    v.count = v.capacity = store->surface_vsl_count;
+    v.materials = scene->materials;
+    v.material_count = scene->has_surfaces ? (size_t)vbl_surfaces_count(scene->surfaces) : 0;
+    return v;
+}
+
+vbl_vec3 vbl_vpl_intensity(const vbl_scene* scene, const vbl_vpl* p, double cos_theta)
+{
+    vbl_vec3 k = vbl_v3(0.0, 0.0, 0.0);
+    for (int i = 0; i < scene->media_count; ++i)
+        if (p->fraction[i] > 0.0)
+            k = vbl_v3_madd(k, scene->media[i].albedo, p->fraction[i] * vbl_hg_eval(scene->media[i].g, cos_theta));
+    return vbl_v3_mul(k, p->power);
+}
+
 double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, double v)
 {
     if (vrl->cache_count <= 0) return 1.0; /* short VRL, or no collision recorded */
@@ -65,6 +87,7 @@ double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, 
 typedef struct vbl_trace_shared {
     const vbl_render_context* ctx;
     const vbl_photon_settings* settings;
+    int store_surface_vsls;
     vbl_vec3 center;
     double radius;
     double light_cdf[VBL_MAX_LIGHTS + 1];
@@ -72,6 +95,51 @@ typedef struct vbl_trace_shared {
 } vbl_trace_shared;
 
 static double vbl_max3(vbl_vec3 v) { return vbl_v3_max_component(v); }
+
+/* The photon (power *phi travelling along *d) reached surface `hit` at the end of segment k:
+ * records the surface VSL, then continues by BRDF sampling (photon_trace.h). Returns 0 when the
+ * walk ends (absorbed, max_bounces, Russian roulette, out of memory: blk->failed). */
+static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surface_hit* hit, int k, vbl_rng* rng,
+                                    vbl_vec3* phi, double phi0, vbl_vec3* x, vbl_vec3* d, vbl_photon_block* blk)
+{
+    const vbl_scene* scene = sh->ctx->scene;
+    const int M = sh->ctx->options.max_bounces;
+    const int vertex = k + 1;
+    const vbl_vec3 wi = vbl_v3_scale(*d, -1.0); /* towards where the photon came from */
+    if (sh->store_surface_vsls && (M < 0 || k + 2 <= M)) {
+        if (!vbl_grow((void**)&blk->vsls, &blk->vsl_cap, blk->vsl_count + 1, sizeof(vbl_surface_vsl))) {
+            blk->failed = 1;
+            return 0;
+        }
+        vbl_surface_vsl* v = &blk->vsls[blk->vsl_count++];
+        v->position = hit->position;
+        v->normal = hit->shading_normal;
+        v->incident = wi;
+        v->power = *phi;
+        v->material = hit->material;
+        v->bounce = k;
+    }
+    if (M >= 0 && vertex > M - 2) return 0;
+    const vbl_material* m = &scene->materials[hit->material];
+    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+    vbl_vec3 w, f;
+    double pdf = 0.0;
+    if (!vbl_material_sample(m, hit->shading_normal, wi, u0, u1, u2, &w, &pdf, &f) || !(pdf > 0.0)) return 0;
+    double cos_o = vbl_v3_dot(w, hit->shading_normal);
+    if (!(cos_o > 0.0) || !(vbl_v3_dot(w, hit->geometric_normal) > 0.0)) return 0;
+    /* the sender convention of surface_vsl.h: f(outgoing, incident) (equal for reciprocal BRDFs) */
+    f = vbl_material_eval(m, hit->shading_normal, w, wi);
+    *phi = vbl_v3_scale(vbl_v3_mul(*phi, f), cos_o / pdf);
+    if (!(vbl_max3(*phi) > 0.0)) return 0;
+    if (vertex >= 2) {
+        double q = fmin(1.0, vbl_max3(*phi) / phi0);
+        if (vbl_rng_uniform(rng) >= q) return 0;
+        *phi = vbl_v3_scale(*phi, 1.0 / q);
+    }
+    *x = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, w);
+    *d = w;
+    return 1;
+}
 
 static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_transmittance_cache* tmp,
                           vbl_rng* rng, vbl_photon_block* blk)
@@ -105,10 +173,16 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     double comps[VBL_MAX_MEDIA] = {0};
     double mid_comps[VBL_MAX_MEDIA] = {0};
     for (int k = 0;; ++k) {
-        double t0, t1, t_surface = INFINITY;
-        vbl_surface_hit hit; /* surfaces end the segment and absorb the photon (see photon_trace.h) */
-        if (scene->surfaces && vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit)) t_surface = hit.t;
-        if (!vbl_extinction_ray_bounds(ext, x, d, 0.0, t_surface, &t0, &t1) || !(t1 > t0)) return;
+        double t0 = 0.0, t1 = 0.0, t_surface = INFINITY;
+        vbl_surface_hit hit; /* the segment ends at the first surface (see photon_trace.h) */
+        const int on_surface = scene->surfaces && vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit);
+        if (on_surface) t_surface = hit.t;
+        const int in_media = vbl_extinction_ray_bounds(ext, x, d, 0.0, t_surface, &t0, &t1) && t1 > t0;
+        if (!in_media) {
+            if (!on_surface) return; /* media-only scenes: exactly the former early exit */
+            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk)) return;
+            continue;
+        }
         double t = 0.0, sigma_t = 0.0;
         int collided = vbl_free_flight_sample(ext, cursor, x, d, t0, t1, use_global, rng, &t, &sigma_t, comps);
         if (st->store_vrls && (M < 0 || k + 2 <= M)) {
@@ -150,6 +224,10 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
                 }
             }
         }
+        if (!collided && on_surface) {
+            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk)) return;
+            continue;
+        }
         if (!collided || !(sigma_t > 0.0)) return;
         x = vbl_v3_madd(x, d, t);
         const int vertex = k + 1;
@@ -189,11 +267,19 @@ void vbl_photon_store_free(vbl_photon_store* store)
     free(store->vrls);
     free(store->vpls);
     free(store->cache_pool);
+    free(store->surface_vsls);
+    free(store->surface_vsl_peaks);
     memset(store, 0, sizeof *store);
 }
 
 vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_settings* settings,
                             vbl_photon_store* out)
+{
+    return vbl_photon_trace_with_surfaces(ctx, settings, 0, out);
+}
+
+vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                                          int store_surface_vsls, vbl_photon_store* out)
 {
     memset(out, 0, sizeof *out);
     const vbl_scene* scene = ctx->scene;
@@ -205,7 +291,18 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
     memset(&sh, 0, sizeof sh);
     sh.ctx = ctx;
     sh.settings = settings;
+    sh.store_surface_vsls = store_surface_vsls && scene->surfaces != NULL;
     if (!vbl_media_bounding_sphere(scene, &sh.center, &sh.radius)) return VBL_SUCCESS;
+    vbl_vec3 slo, shi;
+    if (scene->surfaces && vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) {
+        /* emit towards the media and the surfaces: the box around both, its circumsphere */
+        vbl_vec3 r = vbl_v3(sh.radius, sh.radius, sh.radius);
+        vbl_vec3 lo = vbl_v3_sub(sh.center, r), hi = vbl_v3_add(sh.center, r);
+        lo = vbl_v3(fmin(lo.x, slo.x), fmin(lo.y, slo.y), fmin(lo.z, slo.z));
+        hi = vbl_v3(fmax(hi.x, shi.x), fmax(hi.y, shi.y), fmax(hi.z, shi.z));
+        sh.center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
+        sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo));
+    }
     sh.light_cdf[0] = 0.0;
     for (int i = 0; i < scene->light_count; ++i) {
         double p = vbl_light_power(&scene->lights[i], sh.center, sh.radius);
@@ -238,19 +335,23 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
         free(tmp);
     }
 
-    size_t nv = 0, np = 0, nc = 0;
+    size_t nv = 0, np = 0, nc = 0, ns = 0;
     int failed = 0;
     for (int b = 0; b < blocks; ++b) {
         nv += blk[b].vrl_count;
         np += blk[b].vpl_count;
         nc += blk[b].pool_count;
+        ns += blk[b].vsl_count;
         failed |= blk[b].failed;
     }
     if (!failed) {
         out->vrls = nv ? malloc(nv * sizeof(vbl_vrl)) : NULL;
         out->vpls = np ? malloc(np * sizeof(vbl_vpl)) : NULL;
         out->cache_pool = nc ? malloc(nc * 2 * sizeof(double)) : NULL;
-        failed = (nv && !out->vrls) || (np && !out->vpls) || (nc && !out->cache_pool);
+        out->surface_vsls = ns ? malloc(ns * sizeof(vbl_surface_vsl)) : NULL;
+        out->surface_vsl_peaks = ns ? malloc(ns * sizeof(vbl_vec3)) : NULL;
+        failed = (nv && !out->vrls) || (np && !out->vpls) || (nc && !out->cache_pool) ||
+                 (ns && (!out->surface_vsls || !out->surface_vsl_peaks));
     }
     if (!failed) {
         for (int b = 0; b < blocks; ++b) {
@@ -264,13 +365,25 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
             if (blk[b].pool_count)
                 memcpy(out->cache_pool + 2 * out->cache_pool_count, blk[b].pool, blk[b].pool_count * 2 * sizeof(double));
             out->cache_pool_count += blk[b].pool_count;
+            if (blk[b].vsl_count)
+                memcpy(out->surface_vsls + out->surface_vsl_count, blk[b].vsls,
+                       blk[b].vsl_count * sizeof(vbl_surface_vsl));
+            out->surface_vsl_count += blk[b].vsl_count;
         }
         out->paths = (size_t)n;
+        /* the VSLs' BRDF peaks, once per pass (surface_gather.c's camera-segment sampler) */
+        const long nsl = (long)out->surface_vsl_count;
+#pragma omp parallel for num_threads(ctx->threads) schedule(dynamic, 64)
+        for (long i = 0; i < nsl; ++i) {
+            const vbl_surface_vsl* v = &out->surface_vsls[i];
+            out->surface_vsl_peaks[i] = vbl_material_max_direction(&scene->materials[v->material], v->normal, v->incident);
+        }
     }
     for (int b = 0; b < blocks; ++b) {
         free(blk[b].vrls);
         free(blk[b].vpls);
         free(blk[b].pool);
+        free(blk[b].vsls);
     }
     free(blk);
     if (failed) {

@@ -26,10 +26,24 @@
  *   VPL k (vertex k >= 1): position, incident travel direction, power Phi_{k-1} arriving, and
  *          the per-medium fractions sigma_t,i / sigma_t at the vertex, so that the VPL's
  *          intensity toward w is Phi * sum_i fraction_i albedo_i HG_i(cos) (= Phi kernel/sigma_t).
- * Surfaces (interim, until the virtual-light surface transports land): a photon's segment ends
- * at the first surface along it (VRLs end there, long VRLs too) and the photon is absorbed
- * there, so light reflected by surfaces is missing from the virtual-light methods (pt has it).
- * max_bounces M >= 0: only VRLs with k + 2 <= M and VPLs with k + 1 <= M are stored, and walks
+ * Surfaces (opaque, scene->surfaces): a segment ends at the first surface along it (VRLs end
+ *          there, long VRLs too). The surface hit is a scattering vertex like a medium vertex:
+ *          vertex k+1 of the walk, counted in max_bounces and in Russian roulette alike. There
+ *          the photon (power Phi_k arriving from -d) is recorded as a surface VSL
+ *          (surface_vsl.h: position, shading normal on the incident side, incident = -d,
+ *          power Phi_k, material, bounce = k) when store_surface_vsls is set, and the
+ *          walk continues by BRDF sampling: new direction w from vbl_material_sample, then
+ *          Phi_{k+1} = Phi_k f(w, -d) cos(n, w) / pdf(w) (reflection only; w below the geometric
+ *          normal ends the walk), from an origin offset off the surface (vbl_surface_spawn);
+ *          the next segment (and its VRL) starts there. A VSL of bounce k feeds light that
+ *          scattered k + 2 times at the camera (VSL + camera vertex), so only VSLs with
+ *          k + 2 <= M are stored. With surfaces the walk always continues through them (light
+ *          reflected into the media belongs to volume_from_volume, as in pt) and photons are
+ *          emitted towards the sphere bounding the media AND the surfaces (so surfaces outside
+ *          the media receive photons); media-only scenes trace exactly as before (same random
+ *          numbers, same records).
+ * max_bounces M >= 0: only VRLs with k + 2 <= M, VPLs with k + 1 <= M and surface VSLs with
+ * k + 2 <= M are stored, and walks
  * stop as soon as nothing more can be stored. */
 #ifndef VBL_TRANSPORT_PHOTON_TRACE_H
 #define VBL_TRANSPORT_PHOTON_TRACE_H
@@ -37,6 +51,7 @@
 #include <stddef.h>
 
 #include "transport/estimator.h"
+#include "transport/surface_vsl.h"
 
 typedef struct vbl_vrl {
     vbl_vec3 origin, direction; /* direction unit */
@@ -72,6 +87,9 @@ typedef struct vbl_photon_store {
     size_t vpl_count;
     double* cache_pool;          /* long VRLs: (t, value) pairs */
     size_t cache_pool_count;     /* pairs */
+    vbl_surface_vsl* surface_vsls; /* vbl_photon_trace_with_surfaces(.., 1, ..): photon hits on surfaces */
+    vbl_vec3* surface_vsl_peaks; /* per VSL: vbl_material_max_direction(material, normal, incident) */
+    size_t surface_vsl_count;
     size_t paths;                /* light paths traced */
 } vbl_photon_store;
 
@@ -79,7 +97,19 @@ typedef struct vbl_photon_store {
  * does not depend on the thread count). */
 vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_settings* settings,
                             vbl_photon_store* out);
+/* The same, also recording surface VSLs when store_surface_vsls is 1 (vbl_photon_trace: 0; the
+ * walk through surfaces is the same either way, so the VRLs/VPLs do not depend on it). */
+vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                                          int store_surface_vsls, vbl_photon_store* out);
 void vbl_photon_store_free(vbl_photon_store* store);
+
+/* The store's surface VSLs as a read-only vbl_surface_vsl_store view over the scene's materials
+ * (for the surface_vsl.h gathers; nothing is copied or owned). */
+vbl_surface_vsl_store vbl_photon_store_surface_view(const vbl_photon_store* store, const vbl_scene* scene);
+
+/* A VPL's radiant intensity towards the light-travel direction with cos = incident . omega:
+ * Phi sum_i fraction_i albedo_i HG_i(cos). */
+vbl_vec3 vbl_vpl_intensity(const vbl_scene* scene, const vbl_vpl* p, double cos_theta);
 
 /* T(0, v) along a long VRL from its cache (1 for short VRLs): the cache's step function. */
 double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, double v);

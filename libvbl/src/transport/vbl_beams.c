@@ -2,6 +2,7 @@
 #include "transport/vbl_beams.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 #include "render/radius_schedule.h"
@@ -34,6 +35,23 @@ void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings
         o->vbl_single_scattering == 0 ? VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT : o->vbl_single_scattering == 2;
     if (o->beams_radius0 > 0.0) out->beams_radius0 = o->beams_radius0;
     if (o->beams_alpha > 0.0) out->beams_alpha = o->beams_alpha;
+}
+
+/* Default VSL radius R_0 of the vbl method. A VSL bounds the 1/w^2 falloff inside its radius (eq 9),
+ * which removes part of the near-field energy, so unlike the photon-beam width R_0 must stay small
+ * against the medium's features: the beam-density default (vbl_beams_default_radius), capped at
+ * VBL_VBL_RADIUS_CAP x the diameter of the media's bounding sphere. Measured on the sample cloud
+ * (docs/readme/beams.md, 8 passes x 200 light paths): R_0 = 0.3 (0.1 x the diameter, the old
+ * default) kept 30% of vrl's volume_from_volume; R_0 = 0.03 (0.01 x) kept 92-101% per channel. */
+#define VBL_VBL_RADIUS_CAP 0.01
+static double vbl_vbl_default_radius(const vbl_scene* scene, const vbl_photon_store* photons, int max_bounces)
+{
+    double r0 = vbl_beams_default_radius(scene, photons, max_bounces, 2, 0);
+    vbl_vec3 c;
+    double radius = 0.0;
+    if (vbl_media_bounding_sphere(scene, &c, &radius) && radius > 0.0)
+        r0 = fmin(r0, VBL_VBL_RADIUS_CAP * 2.0 * radius);
+    return r0;
 }
 
 vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_settings* settings, void** store)
@@ -71,7 +89,12 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
         /* one trace for both: beams need k + 1 <= M, the VBLs skip k + 2 > M below */
         r = vbl_photon_beams_trace(ctx, settings->long_vrls, &s->photons);
     } else {
-        vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
+        vbl_photon_settings ps;
+        memset(&ps, 0, sizeof ps); /* fields added later stay 0 */
+        ps.store_vrls = 1;
+        ps.long_vrls = settings->long_vrls;
+        ps.cache_kind = VBL_TRANSMITTANCE_CACHED_RATIO;
+        ps.cache_entries = 16;
         if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
         r = vbl_photon_trace(ctx, &ps, &s->photons);
     }
@@ -81,7 +104,7 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
     }
     /* R_0 when none is given: radius_schedule.h's k sqrt(V / L) over the cube inscribed in the
      * media's bounding sphere and this pass's total length of the VRLs the VBLs use */
-    double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_beams_default_radius(scene, &s->photons, M, 2, 0);
+    double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_vbl_default_radius(scene, &s->photons, M);
     s->radius = vbl_radius_at_pass(r0, settings->alpha, 2, ctx->pass);
     if (settings->beams_single_scattering && M != 0) {
         double b0 = settings->beams_radius0 > 0.0 ? settings->beams_radius0
@@ -150,7 +173,8 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     const int beams_direct = s && s->settings.beams_single_scattering;
-    if (!beams_direct && M != 0) vbl_single_scatter_estimate(ctx, ts, o, d, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (!beams_direct && M != 0)
+        vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (!s || s->photons.vrl_count == 0) return;
 
     vbl_transmittance_cache cache; /* one camera-ray cache for the beams and the VBLs */

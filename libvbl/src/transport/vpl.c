@@ -11,11 +11,13 @@
 #include "transport/light_emission.h"
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
+#include "transport/surface_gather.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vpl_store {
     vbl_vpl_settings settings;
     vbl_photon_store photons;
+    vbl_surface_gather_settings gather; /* surfaces: VPLs and surface VSLs as point lights */
 } vbl_vpl_store;
 
 vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store)
@@ -28,11 +30,21 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vpl store)", ctx->scene->path);
     s->settings = *settings;
     vbl_photon_settings ps = {0, 1, 0, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
-    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    vbl_result r = vbl_photon_trace_with_surfaces(ctx, &ps, ctx->scene->surfaces != NULL, &s->photons);
     if (r) {
         free(s);
         return r;
     }
+    double w = 0.0, g = 0.0;
+    for (int i = 0; i < ctx->scene->media_count; ++i) {
+        const vbl_medium* m = &ctx->scene->media[i];
+        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
+        w += wi;
+        g += wi * m->g;
+    }
+    s->gather.vpls = 1;
+    s->gather.clamp_distance = settings->clamp_distance; /* surface VSLs are VPLs: R = 0 */
+    s->gather.g_camera = w > 0.0 ? g / w : 0.0;
     *store = s;
     return VBL_SUCCESS;
 }
@@ -60,16 +72,6 @@ void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store)
     free(s);
 }
 
-/* Phi * sum_i fraction_i albedo_i HG_i(cos): the VPL's radiant intensity toward cos. */
-static vbl_vec3 vbl_vpl_intensity(const vbl_scene* scene, const vbl_vpl* p, double cos_theta)
-{
-    vbl_vec3 k = vbl_v3(0.0, 0.0, 0.0);
-    for (int i = 0; i < scene->media_count; ++i)
-        if (p->fraction[i] > 0.0)
-            k = vbl_v3_madd(k, scene->media[i].albedo, p->fraction[i] * vbl_hg_eval(scene->media[i].g, cos_theta));
-    return vbl_v3_mul(k, p->power);
-}
-
 void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -79,11 +81,13 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
-    if (!s || s->photons.vpl_count == 0) return;
+    if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
+    if (!s || (s->photons.vpl_count == 0 && s->photons.surface_vsl_count == 0)) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
+    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
     double comps[VBL_MAX_MEDIA];
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);

@@ -9,6 +9,11 @@
  *       u equiangular toward the VPL (pdf(u) proportional to 1/w^2 on [u0, u1]); T_c from one
  *       cached transmittance per camera ray, T(x_u, x_j) one ctx->tracking estimate;
  *       I_j = Phi_j sum_i fraction_i albedo_i HG_i(cos theta_j), the VPL's intensity.
+ * With surfaces (surface_gather.h; the photon walk continues through surfaces and records
+ * surface VSLs, photon_trace.h): surface_direct by next-event estimation at the camera ray's
+ * first surface hit; surface_from_volume from the VPLs, and surface_from_surface /
+ * volume_from_surface from the surface VSLs used as point lights (R = 0), all with the same
+ * clamping as the media VPLs.
  * Unbiased unless clamping is enabled: clamp_distance > 0 replaces 1/w^2 by
  * 1/max(w^2, clamp_distance^2) (biased, darker; removes the P2L singularity's fireflies). */
 #ifndef VBL_TRANSPORT_VPL_H

@@ -4,11 +4,13 @@
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "render/radius_schedule.h"
 #include "sampling/vrl_pair.h"
 #include "scene/media.h"
 #include "transport/light_emission.h"
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
+#include "transport/surface_gather.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vrl_store {
@@ -17,6 +19,7 @@ typedef struct vbl_vrl_store {
     double g_camera;        /* HG g used by the sampler at camera points */
     double rr_distance;     /* world units; 0: no pruning */
     vbl_tracking_settings connect;
+    vbl_surface_gather_settings gather; /* surfaces: eq 6 VRLs, surface VSLs of radius R_p */
 } vbl_vrl_store;
 
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb)
@@ -47,6 +50,10 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     if (settings->rr_radius > 0.0 && !(settings->rr_min_probability > 0.0 && settings->rr_min_probability <= 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl rr_min_probability = %g is outside (0, 1]",
                          scene->path, settings->rr_min_probability);
+    const double alpha = settings->surface_alpha > 0.0 ? settings->surface_alpha : VBL_RADIUS_ALPHA_DEFAULT;
+    if (!(alpha <= 1.0) || !isfinite(settings->surface_radius0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl surface_alpha = %g is outside (0, 1] or surface_radius0 = %g is not finite",
+                         scene->path, settings->surface_alpha, settings->surface_radius0);
     vbl_vrl_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vrl store)", scene->path);
     s->settings = *settings;
@@ -69,10 +76,18 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     }
     vbl_photon_settings ps = {1, 0, settings->long_vrls, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
     if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
-    vbl_result r = vbl_photon_trace(ctx, &ps, &s->photons);
+    vbl_result r = vbl_photon_trace_with_surfaces(ctx, &ps, scene->surfaces != NULL, &s->photons);
     if (r) {
         free(s);
         return r;
+    }
+    s->gather.vrls = 1;
+    s->gather.kernel_samples = VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
+    s->gather.g_camera = s->g_camera;
+    if (scene->surfaces) {
+        double r0 = settings->surface_radius0 > 0.0 ? settings->surface_radius0
+                                                    : vbl_surface_vsl_default_r0(scene, s->photons.surface_vsl_count);
+        s->gather.vsl_radius = vbl_radius_at_pass(r0, alpha, 2, ctx->pass);
     }
     *store = s;
     return VBL_SUCCESS;
@@ -95,6 +110,16 @@ static vbl_result vbl_vrl_pass_begin(const vbl_render_context* ctx, void** store
     vbl_vrl_settings settings;
     vbl_vrl_settings_from_options(&ctx->options, &settings);
     return vbl_vrl_pass_begin_with(ctx, &settings, store);
+}
+
+double vbl_vrl_store_surface_radius(const void* store)
+{
+    return store ? ((const vbl_vrl_store*)store)->gather.vsl_radius : 0.0;
+}
+
+const vbl_photon_store* vbl_vrl_store_photons(const void* store)
+{
+    return store ? &((const vbl_vrl_store*)store)->photons : NULL;
 }
 
 void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store)
@@ -124,11 +149,13 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
-    if (!s || s->photons.vrl_count == 0) return;
+    if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
+    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0)) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
+    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     const int S = s->settings.samples;
     const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
     double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];

@@ -10,7 +10,15 @@
  *   emission            quad/environment lights seen directly (light_emission.h);
  *   volume_direct       the shared single-scattering estimator (single_scatter.h), as pt;
  *   volume_from_volume  the sum over VRLs of the estimate above (a VRL of bounce k yields light
- *                       that scattered k + 2 times; only VRLs with k + 2 <= max_bounces count).
+ *                       that scattered k + 2 times; only VRLs with k + 2 <= max_bounces count);
+ * and with surfaces (surface_gather.h; the photon walk continues through surfaces and records
+ * surface VSLs, photon_trace.h):
+ *   surface_direct      next-event estimation at the camera ray's first surface hit;
+ *   surface_from_volume every VRL by VRL eq 6 (one product-sampled point per VRL, unbiased);
+ *   surface_from_surface, volume_from_surface
+ *                       the surface VSLs with radius R_p = vbl_radius_at_pass(R_0, alpha, 2, p)
+ *                       (VBL section 3.3-3.4, eq 11; R_0 = surface_radius0 or
+ *                       vbl_surface_vsl_default_r0), consistent as R_p -> 0.
  * Transmittances: T_c from one cache per camera ray (vbl_camera_segment_cache), T_l = 1 for short
  * VRLs (the random segment length accounts for it) or the VRL's own cache for long VRLs, T(w)
  * along the connecting segment by one ctx->tracking estimate (ratio tracking by default,
@@ -33,9 +41,11 @@ typedef struct vbl_vrl_settings {
     double march_step;         /* ray marching step in world units; <= 0: adaptive */
     double rr_radius;          /* pruning radius as a fraction of the media's bounding radius; 0: off */
     double rr_min_probability; /* floor of the survival probability, in (0, 1] */
+    double surface_radius0;    /* surface VSL R_0 in world units; <= 0: vbl_surface_vsl_default_r0 */
+    double surface_alpha;      /* eq 11 alpha of the surface VSL radius, (0, 1]; 0: 0.7 */
 } vbl_vrl_settings;
 
-#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1}
+#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0}
 
 /* The settings of render options (vrl_* fields; zeros in samples / min probability mean the
  * defaults). The estimator vbl_estimator_vrl uses these. */
@@ -48,6 +58,11 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
 void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
 void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store);
+/* The pass's surface VSL radius R_p (0 without surfaces; tests, diagnostics). */
+double vbl_vrl_store_surface_radius(const void* store);
+/* The pass's photon store (tests). */
+struct vbl_photon_store;
+const struct vbl_photon_store* vbl_vrl_store_photons(const void* store);
 
 /* One estimate of T along a + t dir, t in [0, len] (the segment connecting a virtual-light point
  * and a camera-ray point), clipped to the media; 1 outside them; 0 when a surface blocks it. */

@@ -309,7 +309,7 @@ def _parse_method(value):
         return value
     out = _R()
     if _method_parse(_encode(value), ctypes.byref(out)) != _SUCCESS:
-        raise _argument_error("unknown render method %r (pt, vpl, vrl, vbl)" % (value,))
+        raise _argument_error("unknown render method %r (pt, vpl, vrl, vbl, beams)" % (value,))
     return out.value
 
 

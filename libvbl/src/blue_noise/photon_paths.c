@@ -1,0 +1,156 @@
+/* Surface light paths split into the blue-noise lights' incident fields (photon_paths.h). */
+#include "blue_noise/photon_paths.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "transport/light_emission.h"
+
+typedef struct path_hits {
+    vbl_bn_photon_hit* hits;
+    size_t count, capacity;
+    vbl_vec3 emitted;
+    int failed;
+} path_hits;
+
+static void push_hit(path_hits* p, const vbl_bn_photon_hit* h)
+{
+    if (p->count == p->capacity) {
+        size_t cap = p->capacity ? 2 * p->capacity : 4;
+        vbl_bn_photon_hit* n = (vbl_bn_photon_hit*)realloc(p->hits, cap * sizeof(*n));
+        if (!n) {
+            p->failed = 1;
+            return;
+        }
+        p->hits = n;
+        p->capacity = cap;
+    }
+    p->hits[p->count++] = *h;
+}
+
+typedef struct shared {
+    const vbl_scene* scene;
+    const vbl_bn_photon_options* o;
+    vbl_vec3 center;
+    double radius;
+    double cdf[VBL_MAX_LIGHTS + 1];
+} shared;
+
+static void trace_path(const shared* sh, size_t index, path_hits* out)
+{
+    const vbl_scene* scene = sh->scene;
+    vbl_rng rng = vbl_rng_make(sh->o->seed, VBL_BN_PHOTON_STREAM, (uint64_t)index);
+    const double total = sh->cdf[scene->light_count];
+    double target = vbl_rng_uniform(&rng) * total;
+    int pick = -1;
+    for (int i = 0; i < scene->light_count; ++i)
+        if (sh->cdf[i + 1] > sh->cdf[i]) {
+            pick = i;
+            if (target < sh->cdf[i + 1]) break;
+        }
+    if (pick < 0) return;
+    double select_pdf = (sh->cdf[pick + 1] - sh->cdf[pick]) / total;
+    double u[4];
+    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(&rng);
+    vbl_emission_sample es;
+    if (!vbl_light_sample_emission(&scene->lights[pick], sh->center, sh->radius, u, &es)) return;
+    vbl_vec3 phi = vbl_v3_scale(es.flux, 1.0 / (select_pdf * (double)sh->o->paths));
+    const double phi0 = vbl_v3_max_component(phi);
+    if (!(phi0 > 0.0) || !isfinite(phi0)) return;
+    out->emitted = phi;
+    vbl_vec3 x = es.origin, d = es.direction;
+    for (int k = 0;; ++k) {
+        vbl_surface_hit hit;
+        if (!vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit)) return;
+        vbl_vec3 wi = vbl_v3_scale(d, -1.0);
+        if (sh->o->max_bounce < 0 || k <= sh->o->max_bounce) {
+            vbl_bn_photon_hit h = {hit.position, hit.shading_normal, wi, phi};
+            push_hit(out, &h);
+            if (out->failed) return;
+        }
+        if (sh->o->max_bounce >= 0 && k >= sh->o->max_bounce) return;
+        const vbl_material* m = &scene->materials[hit.material];
+        double u0 = vbl_rng_uniform(&rng), u1 = vbl_rng_uniform(&rng), u2 = vbl_rng_uniform(&rng);
+        vbl_vec3 w, f;
+        double pdf = 0.0;
+        if (!vbl_material_sample(m, hit.shading_normal, wi, u0, u1, u2, &w, &pdf, &f) || !(pdf > 0.0)) return;
+        double cos_o = vbl_v3_dot(w, hit.shading_normal);
+        if (!(cos_o > 0.0) || !(vbl_v3_dot(w, hit.geometric_normal) > 0.0)) return;
+        f = vbl_material_eval(m, hit.shading_normal, w, wi); /* f(outgoing, incident) */
+        phi = vbl_v3_scale(vbl_v3_mul(phi, f), cos_o / pdf);
+        if (!(vbl_v3_max_component(phi) > 0.0)) return;
+        if (k >= 1) { /* Russian roulette from the third hit on */
+            double q = fmin(1.0, vbl_v3_max_component(phi) / phi0);
+            if (vbl_rng_uniform(&rng) >= q) return;
+            phi = vbl_v3_scale(phi, 1.0 / q);
+        }
+        double eps = vbl_surfaces_ray_epsilon(scene->surfaces, hit.position);
+        x = vbl_v3_madd(hit.position, hit.geometric_normal, eps);
+        d = w;
+    }
+}
+
+vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_options* options,
+                                vbl_bn_incident_field* field, vbl_bn_photon_stats* stats)
+{
+    vbl_bn_photon_options defaults = VBL_BN_PHOTON_DEFAULT;
+    const vbl_bn_photon_options* o = options ? options : &defaults;
+    vbl_bn_photon_stats st;
+    memset(&st, 0, sizeof st);
+    if (stats) *stats = st;
+    if (o->size < sizeof(vbl_bn_photon_options))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: options.size = %zu is too small", o->size);
+    if (!scene->surfaces || scene->surface_count <= 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: scene '%s' has no surfaces", scene->path);
+    if (o->paths == 0) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: options.paths must be > 0");
+    shared sh;
+    memset(&sh, 0, sizeof sh);
+    sh.scene = scene;
+    sh.o = o;
+    vbl_vec3 lo, hi;
+    if (!vbl_surfaces_bounds(scene->surfaces, &lo, &hi))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: scene '%s' has no surfaces", scene->path);
+    sh.center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
+    sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo));
+    for (int i = 0; i < scene->light_count; ++i) {
+        double p = vbl_light_power(&scene->lights[i], sh.center, sh.radius);
+        sh.cdf[i + 1] = sh.cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
+    }
+    st.paths = o->paths;
+    if (!(sh.cdf[scene->light_count] > 0.0)) {
+        if (stats) *stats = st;
+        return VBL_SUCCESS;
+    }
+    const size_t chunk = o->chunk ? o->chunk : 16384;
+    path_hits* ph = (path_hits*)calloc(chunk, sizeof(path_hits));
+    if (!ph) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise photons: cannot allocate a chunk of %zu paths", chunk);
+    vbl_result rc = VBL_SUCCESS;
+    for (size_t start = 0; start < o->paths && rc == VBL_SUCCESS; start += chunk) {
+        size_t n = o->paths - start < chunk ? o->paths - start : chunk;
+#pragma omp parallel for schedule(dynamic, 64)
+        for (long long i = 0; i < (long long)n; ++i) {
+            path_hits* p = &ph[i];
+            p->count = 0;
+            p->failed = 0;
+            p->emitted = vbl_v3(0, 0, 0);
+            trace_path(&sh, start + (size_t)i, p);
+        }
+        for (size_t i = 0; i < n && rc == VBL_SUCCESS; ++i) {
+            if (ph[i].failed) {
+                rc = vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise photons: out of memory on path %zu", start + i);
+                break;
+            }
+            st.emitted = vbl_v3_add(st.emitted, ph[i].emitted);
+            size_t lost_before = field->lost_hits;
+            rc = vbl_bn_split_photons(field, ph[i].hits, ph[i].count);
+            st.hits += ph[i].count;
+            st.lost_hits += field->lost_hits - lost_before;
+        }
+    }
+    for (size_t i = 0; i < chunk; ++i) free(ph[i].hits);
+    free(ph);
+    if (stats) *stats = st;
+    return rc;
+}
