@@ -205,7 +205,7 @@ VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* 
 VBL_API vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film);
 
 /* Quality presets: "preview", "production", "final" set method, passes, light paths, spp,
- * the vbl radius schedule (R0 factor, alpha) and estimators (docs/readme/beams.md lists the
+ * the vbl radius schedule (R0 factor, alpha) and estimators (docs/readme/performance.md lists the
  * values and their measured error and time). Unknown names: VBL_ERROR_INVALID_ARGUMENT.
  * Fields a preset does not mention are left as they are. */
 VBL_API vbl_result vbl_render_options_apply_preset(const char* preset, vbl_render_options* options);

@@ -49,7 +49,7 @@ vbl_result vbl_photon_beams_trace(const vbl_render_context* ctx, int long_vrls, 
     ps.cache_kind = VBL_TRANSMITTANCE_CACHED_RATIO;
     ps.cache_entries = 16;
     if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
-    return vbl_photon_trace(&c, &ps, out);
+    return vbl_photon_trace_with_surfaces(&c, &ps, c.scene->surfaces != NULL, out);
 }
 
 static int vbl_beam_used(int bounce, int M, int extra) { return M < 0 || bounce + extra <= M; }

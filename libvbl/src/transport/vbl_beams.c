@@ -11,6 +11,7 @@
 #include "transport/photon_beams.h"
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
+#include "transport/surface_gather.h"
 #include "transport/vrl.h"
 #include "volume/transmittance_cache.h"
 
@@ -21,6 +22,7 @@ typedef struct vbl_vbl_store {
     double radius;   /* R_p of this pass */
     vbl_photon_beam_gather* beams; /* beams_single_scattering: bounce-0 photon beams */
     double beam_radius;
+    vbl_surface_gather_settings gather; /* surfaces: VBL eqs 8-9 (R_p), surface VSLs (surface_gather.h) */
 } vbl_vbl_store;
 
 void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings* out)
@@ -96,7 +98,7 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
         ps.cache_kind = VBL_TRANSMITTANCE_CACHED_RATIO;
         ps.cache_entries = 16;
         if (ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA) ps.cache_kind = VBL_TRANSMITTANCE_CACHED_DELTA;
-        r = vbl_photon_trace(ctx, &ps, &s->photons);
+        r = vbl_photon_trace_with_surfaces(ctx, &ps, scene->surfaces != NULL, &s->photons);
     }
     if (r) {
         free(s);
@@ -106,6 +108,13 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
      * media's bounding sphere and this pass's total length of the VRLs the VBLs use */
     double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_vbl_default_radius(scene, &s->photons, M);
     s->radius = vbl_radius_at_pass(r0, settings->alpha, 2, ctx->pass);
+    s->gather.vrls = 1;
+    s->gather.vrl_radius = s->radius; /* surface_from_volume: VBL eqs 8-9 with R_p */
+    s->gather.kernel_samples = VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
+    s->gather.g_camera = s->g_camera;
+    if (scene->surfaces) /* surface VSLs: their own R_0 (surface density), the same eq 11 alpha */
+        s->gather.vsl_radius = vbl_radius_at_pass(vbl_surface_vsl_default_r0(scene, s->photons.surface_vsl_count),
+                                                  settings->alpha, 2, ctx->pass);
     if (settings->beams_single_scattering && M != 0) {
         double b0 = settings->beams_radius0 > 0.0 ? settings->beams_radius0
                                                   : vbl_beams_default_radius(scene, &s->photons, M, 1, 1);
@@ -175,11 +184,13 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int beams_direct = s && s->settings.beams_single_scattering;
     if (!beams_direct && M != 0)
         vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
-    if (!s || s->photons.vrl_count == 0) return;
+    if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
+    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0)) return;
 
     vbl_transmittance_cache cache; /* one camera-ray cache for the beams and the VBLs */
     double u0, u1;
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
+    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     if (beams_direct) vbl_photon_beam_gather_eval_cached(ctx, s->beams, ts, &cache, o, d, u0, u1, out);
     if (!(s->radius > 0.0)) return;
     const int S = s->settings.samples, n = s->settings.kernel_samples;
