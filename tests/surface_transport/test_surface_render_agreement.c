@@ -35,6 +35,7 @@
 #include "transport/pt.h"
 #include "transport/surface_gather.h"
 #include "transport/vpl.h"
+#include "transport/vbl_beams.h"
 #include "transport/vrl.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
@@ -191,10 +192,10 @@ static double layer_total(const vbl_film* film, const char* name)
 static void test_sum_finite_and_deterministic(void** state)
 {
     (void)state;
-    const vbl_estimator* ests[2] = {&vbl_estimator_vrl, &vbl_estimator_vpl};
+    const vbl_estimator* ests[3] = {&vbl_estimator_vrl, &vbl_estimator_vpl, &vbl_estimator_vbl};
     for (int phong = 0; phong < 2; ++phong) {
         scene_case c = make_case(phong, 1);
-        for (int e = 0; e < 2; ++e) {
+        for (int e = 0; e < 3; ++e) {
             vbl_film* a = render_with(c.scene, ests[e], 2, 1, 48, 11, 1, -1);
             vbl_film* b = render_with(c.scene, ests[e], 2, 1, 48, 11, 2, -1);
             check_sum_to_beauty(a);
