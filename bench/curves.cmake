@@ -1,5 +1,6 @@
-# Issue-4 benchmark: error-vs-time curves (rMAE against a cached long pt reference) of every
-# method and quality preset on the sample cloud and a dense anisotropic cloud (bench/bench_curves.c).
+# Issue-4/6 benchmark: error-vs-time curves (rMAE against a cached long pt reference) of every
+# method and quality preset on the sample cloud, a dense anisotropic cloud and the smoky room
+# (bench/bench_curves.c).
 # Run: build/bench/bench_curves --budget 30 --csv bench/results/curves.csv
 #      /usr/bin/python3 bench/plot_curves.py bench/results/curves.csv docs/images/error_vs_time.png
 add_executable(bench_curves ${CMAKE_CURRENT_LIST_DIR}/bench_curves.c)

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "render/radius_schedule.h"
 #include "sampling/phase_hg.h"
 #include "scene/media.h"
 #include "transport/light_emission.h"
@@ -24,6 +25,8 @@ typedef struct vbl_photon_block {
     size_t pool_count, pool_cap; /* pairs */
     vbl_surface_vsl* vsls;
     size_t vsl_count, vsl_cap;
+    vbl_caustic_photon* caustics;
+    size_t caustic_count, caustic_cap;
     int failed;
 } vbl_photon_block;
 
@@ -88,6 +91,7 @@ typedef struct vbl_trace_shared {
     const vbl_render_context* ctx;
     const vbl_photon_settings* settings;
     int store_surface_vsls;
+    int caustics; /* the split of surface_caustics.h is on for this trace */
     vbl_vec3 center;
     double radius;
     double light_cdf[VBL_MAX_LIGHTS + 1];
@@ -97,15 +101,31 @@ typedef struct vbl_trace_shared {
 static double vbl_max3(vbl_vec3 v) { return vbl_v3_max_component(v); }
 
 /* The photon (power *phi travelling along *d) reached surface `hit` at the end of segment k:
- * records the surface VSL, then continues by BRDF sampling (photon_trace.h). Returns 0 when the
- * walk ends (absorbed, max_bounces, Russian roulette, out of memory: blk->failed). */
+ * records the surface VSL (and a caustic photon when *prev_specular says the previous vertex was
+ * a highly specular surface), then continues by BRDF sampling (photon_trace.h). Returns 0 when
+ * the walk ends (absorbed, max_bounces, Russian roulette, out of memory: blk->failed). */
 static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surface_hit* hit, int k, vbl_rng* rng,
-                                    vbl_vec3* phi, double phi0, vbl_vec3* x, vbl_vec3* d, vbl_photon_block* blk)
+                                    vbl_vec3* phi, double phi0, vbl_vec3* x, vbl_vec3* d, vbl_photon_block* blk,
+                                    int* prev_specular)
 {
     const vbl_scene* scene = sh->ctx->scene;
     const int M = sh->ctx->options.max_bounces;
     const int vertex = k + 1;
     const vbl_vec3 wi = vbl_v3_scale(*d, -1.0); /* towards where the photon came from */
+    const int specular = sh->caustics && vbl_material_is_highly_specular(&scene->materials[hit->material]);
+    if (sh->caustics && *prev_specular && !specular && (M < 0 || k + 1 <= M)) {
+        if (!vbl_grow((void**)&blk->caustics, &blk->caustic_cap, blk->caustic_count + 1, sizeof(vbl_caustic_photon))) {
+            blk->failed = 1;
+            return 0;
+        }
+        vbl_caustic_photon* c = &blk->caustics[blk->caustic_count++];
+        c->position = hit->position;
+        c->normal = hit->shading_normal;
+        c->incident = wi;
+        c->power = *phi;
+        c->bounce = k;
+    }
+    *prev_specular = specular;
     if (sh->store_surface_vsls && (M < 0 || k + 2 <= M)) {
         if (!vbl_grow((void**)&blk->vsls, &blk->vsl_cap, blk->vsl_count + 1, sizeof(vbl_surface_vsl))) {
             blk->failed = 1;
@@ -119,7 +139,8 @@ static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surfac
         v->material = hit->material;
         v->bounce = k;
     }
-    if (M >= 0 && vertex > M - 2) return 0;
+    /* a highly specular vertex can still feed a caustic photon one event later */
+    if (M >= 0 && vertex > (specular ? M - 1 : M - 2)) return 0;
     const vbl_material* m = &scene->materials[hit->material];
     double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
     vbl_vec3 w, f;
@@ -170,6 +191,7 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     if (!(phi0 > 0.0)) return;
 
     vbl_vec3 x = es.origin, d = es.direction;
+    int prev_specular = 0; /* the previous vertex was a highly specular surface (caustics) */
     double comps[VBL_MAX_MEDIA] = {0};
     double mid_comps[VBL_MAX_MEDIA] = {0};
     for (int k = 0;; ++k) {
@@ -180,7 +202,7 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
         const int in_media = vbl_extinction_ray_bounds(ext, x, d, 0.0, t_surface, &t0, &t1) && t1 > t0;
         if (!in_media) {
             if (!on_surface) return; /* media-only scenes: exactly the former early exit */
-            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk)) return;
+            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk, &prev_specular)) return;
             continue;
         }
         double t = 0.0, sigma_t = 0.0;
@@ -225,10 +247,11 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
             }
         }
         if (!collided && on_surface) {
-            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk)) return;
+            if (!vbl_trace_surface_vertex(sh, &hit, k, rng, &phi, phi0, &x, &d, blk, &prev_specular)) return;
             continue;
         }
         if (!collided || !(sigma_t > 0.0)) return;
+        prev_specular = 0;
         x = vbl_v3_madd(x, d, t);
         const int vertex = k + 1;
         if (st->store_vpls && (M < 0 || vertex <= M - 1)) {
@@ -269,6 +292,7 @@ void vbl_photon_store_free(vbl_photon_store* store)
     free(store->cache_pool);
     free(store->surface_vsls);
     free(store->surface_vsl_peaks);
+    vbl_caustic_map_free(&store->caustics);
     memset(store, 0, sizeof *store);
 }
 
@@ -281,8 +305,22 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
 vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const vbl_photon_settings* settings,
                                           int store_surface_vsls, vbl_photon_store* out)
 {
+    return vbl_photon_trace_with_caustics(ctx, settings, store_surface_vsls, NULL, out);
+}
+
+vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                                          int store_surface_vsls, const vbl_caustic_settings* caustics,
+                                          vbl_photon_store* out)
+{
     memset(out, 0, sizeof *out);
     const vbl_scene* scene = ctx->scene;
+    vbl_caustic_settings cs;
+    memset(&cs, 0, sizeof cs);
+    if (caustics) cs = *caustics;
+    if (!(cs.alpha <= 1.0) || !isfinite(cs.radius0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "%s: caustic settings alpha = %g is above 1 or radius0 = %g is not finite", scene->path,
+                         cs.alpha, cs.radius0);
     const int n = ctx->options.light_paths;
     const int M = ctx->options.max_bounces;
     if (n <= 0 || scene->light_count == 0 || ctx->extinction->count == 0 || (M >= 0 && M < 2)) return VBL_SUCCESS;
@@ -292,6 +330,8 @@ vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const v
     sh.ctx = ctx;
     sh.settings = settings;
     sh.store_surface_vsls = store_surface_vsls && scene->surfaces != NULL;
+    sh.caustics = sh.store_surface_vsls && cs.mode != VBL_CAUSTICS_OFF &&
+                  vbl_materials_any_highly_specular(scene->materials, vbl_surfaces_count(scene->surfaces));
     if (!vbl_media_bounding_sphere(scene, &sh.center, &sh.radius)) return VBL_SUCCESS;
     vbl_vec3 slo, shi;
     if (scene->surfaces && vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) {
@@ -335,13 +375,14 @@ vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const v
         free(tmp);
     }
 
-    size_t nv = 0, np = 0, nc = 0, ns = 0;
+    size_t nv = 0, np = 0, nc = 0, ns = 0, ncau = 0;
     int failed = 0;
     for (int b = 0; b < blocks; ++b) {
         nv += blk[b].vrl_count;
         np += blk[b].vpl_count;
         nc += blk[b].pool_count;
         ns += blk[b].vsl_count;
+        ncau += blk[b].caustic_count;
         failed |= blk[b].failed;
     }
     if (!failed) {
@@ -379,7 +420,31 @@ vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const v
             out->surface_vsl_peaks[i] = vbl_material_max_direction(&scene->materials[v->material], v->normal, v->incident);
         }
     }
+    if (!failed && sh.caustics) {
+        /* the caustic photons in block order, then the pass's R_p and the grid (cells R_p wide) */
+        vbl_caustic_photon* all = ncau ? malloc(ncau * sizeof *all) : NULL;
+        if (ncau && !all) {
+            failed = 1;
+        } else {
+            size_t at = 0;
+            for (int b = 0; b < blocks; ++b) {
+                if (blk[b].caustic_count) memcpy(all + at, blk[b].caustics, blk[b].caustic_count * sizeof *all);
+                at += blk[b].caustic_count;
+            }
+            vbl_vec3 lo, hi;
+            if (!vbl_surfaces_bounds(scene->surfaces, &lo, &hi)) lo = hi = vbl_v3(0.0, 0.0, 0.0);
+            double r0 = cs.radius0 > 0.0 ? cs.radius0 : vbl_caustic_default_r0(all, ncau, lo, hi);
+            double alpha = cs.alpha > 0.0 ? cs.alpha : VBL_RADIUS_ALPHA_DEFAULT;
+            out->caustic_radius = r0 > 0.0 && isfinite(r0) ? vbl_radius_at_pass(r0, alpha, 2, ctx->pass) : 0.0;
+            out->caustics_active = out->caustic_radius > 0.0; /* else the VSLs alone, as before */
+            if (ncau && out->caustic_radius > 0.0 &&
+                vbl_caustic_map_build(&out->caustics, all, ncau, out->caustic_radius) != VBL_SUCCESS)
+                failed = 1;
+            free(all);
+        }
+    }
     for (int b = 0; b < blocks; ++b) {
+        free(blk[b].caustics);
         free(blk[b].vrls);
         free(blk[b].vpls);
         free(blk[b].pool);

@@ -35,6 +35,13 @@
  *          walk continues by BRDF sampling: new direction w from vbl_material_sample, then
  *          Phi_{k+1} = Phi_k f(w, -d) cos(n, w) / pdf(w) (reflection only; w below the geometric
  *          normal ends the walk), from an origin offset off the surface (vbl_surface_spawn);
+ *          Caustics (surface_caustics.h; vbl_caustic_settings mode AUTO, surface VSLs recorded and a
+ *          highly specular material in the scene, else nothing changes, not even the random
+ *          numbers): a hit that is not highly specular, reached straight from a highly specular
+ *          surface vertex, also records a caustic photon (position, normal, incident, power Phi_k,
+ *          bounce k) when k + 1 <= M; the walk then continues from highly specular vertices while
+ *          vertex k + 1 <= M - 1 (one event more than elsewhere, so that max_bounces paths ending
+ *          in a caustic are not lost); nothing else is stored from that extra segment.
  *          the next segment (and its VRL) starts there. A VSL of bounce k feeds light that
  *          scattered k + 2 times at the camera (VSL + camera vertex), so only VSLs with
  *          k + 2 <= M are stored. With surfaces the walk always continues through them (light
@@ -51,6 +58,7 @@
 #include <stddef.h>
 
 #include "transport/estimator.h"
+#include "transport/surface_caustics.h"
 #include "transport/surface_vsl.h"
 
 typedef struct vbl_vrl {
@@ -80,6 +88,17 @@ typedef struct vbl_photon_settings {
     int cache_entries;          /* CACHED_DELTA distances per VRL */
 } vbl_photon_settings;
 
+/* Surface caustics (surface_caustics.h), with store_surface_vsls only. {0} (or NULL) = defaults. */
+typedef struct vbl_caustic_settings {
+    int mode;        /* VBL_CAUSTICS_AUTO (0): caustic photons when a material is highly specular;
+                        VBL_CAUSTICS_OFF: never (the VSLs alone, exactly as before) */
+    double radius0;  /* R_0 of the gather in world units; <= 0: vbl_caustic_default_r0 */
+    double alpha;    /* eq 11 alpha in (0, 1]; <= 0: VBL_RADIUS_ALPHA_DEFAULT */
+} vbl_caustic_settings;
+
+#define VBL_CAUSTICS_AUTO 0
+#define VBL_CAUSTICS_OFF 1
+
 typedef struct vbl_photon_store {
     vbl_vrl* vrls;
     size_t vrl_count;
@@ -90,6 +109,12 @@ typedef struct vbl_photon_store {
     vbl_surface_vsl* surface_vsls; /* vbl_photon_trace_with_surfaces(.., 1, ..): photon hits on surfaces */
     vbl_vec3* surface_vsl_peaks; /* per VSL: vbl_material_max_direction(material, normal, incident) */
     size_t surface_vsl_count;
+    /* Surface caustics: caustics_active = 1 when this trace applied the split of
+     * surface_caustics.h (then highly specular VSLs are not gathered at non-specular receivers);
+     * caustic_radius = R_p of this pass (eq 11); the map's cells are R_p wide. */
+    int caustics_active;
+    vbl_caustic_map caustics;
+    double caustic_radius;
     size_t paths;                /* light paths traced */
 } vbl_photon_store;
 
@@ -101,6 +126,11 @@ vbl_result vbl_photon_trace(const vbl_render_context* ctx, const vbl_photon_sett
  * walk through surfaces is the same either way, so the VRLs/VPLs do not depend on it). */
 vbl_result vbl_photon_trace_with_surfaces(const vbl_render_context* ctx, const vbl_photon_settings* settings,
                                           int store_surface_vsls, vbl_photon_store* out);
+/* The same with explicit caustic settings (vbl_photon_trace_with_surfaces: NULL = defaults, i.e.
+ * caustics AUTO with the default R_0 and alpha). */
+vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const vbl_photon_settings* settings,
+                                          int store_surface_vsls, const vbl_caustic_settings* caustics,
+                                          vbl_photon_store* out);
 void vbl_photon_store_free(vbl_photon_store* store);
 
 /* The store's surface VSLs as a read-only vbl_surface_vsl_store view over the scene's materials

@@ -5,6 +5,7 @@
 
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
+#include "transport/surface_caustics.h"
 #include "transport/surface_cone_kernel.h"
 #include "transport/surface_from_volume.h"
 #include "transport/surface_vsl.h"
@@ -232,14 +233,26 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     }
     out->L[VBL_CLASS_SURFACE_FROM_VOLUME] = vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_VOLUME], from_volume, tcam);
 
-    /* surface_from_surface */
-    if (photons->surface_vsl_count == 0) return;
+    /* surface_from_surface. The caustic split (surface_caustics.h): at a receiver that is not
+     * highly specular, light from a highly specular VSL comes from the caustic photons instead. */
     vbl_vec3 from_surface = vbl_v3(0.0, 0.0, 0.0);
+    const int split = photons->caustics_active && !vbl_material_is_highly_specular(m);
+    if (split && gs->caustics != VBL_SURFACE_CAUSTICS_SKIP) {
+        double R = gs->caustic_radius > 0.0 ? gs->caustic_radius : photons->caustic_radius;
+        from_surface = vbl_caustic_gather(&photons->caustics, x, n, wo, m, R, M);
+    }
+    if (photons->surface_vsl_count == 0) {
+        out->L[VBL_CLASS_SURFACE_FROM_SURFACE] =
+            vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_SURFACE], from_surface, tcam);
+        return;
+    }
     if (gs->vsl_radius > 0.0) {
         /* K_R is evaluated about x; visibility runs from the VSL (offset off its surface) to x */
         for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
             const vbl_surface_vsl* v = &photons->surface_vsls[j];
             double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
+            if (split && vbl_material_is_highly_specular(&scene->materials[v->material])) continue;
+            if (M >= 0 && v->bounce + 2 > M) continue; /* stores traced one event deeper (vbl + beams) */
             vbl_vec3 k = vbl_surface_vsl_kernel_surface(&sp, v, &scene->materials[v->material], gs->vsl_radius, nk,
                                                         jitter);
             if (!vbl_any(k)) continue;
@@ -250,6 +263,8 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     } else {
         for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
             const vbl_surface_vsl* v = &photons->surface_vsls[j];
+            if (split && vbl_material_is_highly_specular(&scene->materials[v->material])) continue;
+            if (M >= 0 && v->bounce + 2 > M) continue;
             vbl_vec3 to = vbl_v3_sub(x, v->position);
             double w2 = vbl_v3_dot(to, to);
             if (!(w2 > 0.0)) continue;
@@ -280,12 +295,14 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
     const double clamp2 = gs->clamp_distance * gs->clamp_distance;
     const int nk = gs->kernel_samples > 0 ? gs->kernel_samples : VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
     const double R = gs->vsl_radius > 0.0 ? gs->vsl_radius : 0.0;
+    const int M = ctx->options.max_bounces;
     gather_cb cb = {ctx, ts, rng, photons, NULL, cache, vbl_v3(0, 0, 0)};
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
         const vbl_surface_vsl v = photons->surface_vsls[j];
         double xi = vbl_rng_uniform(rng);
         double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
+        if (M >= 0 && v.bounce + 2 > M) continue; /* stores traced one event deeper (vbl + beams) */
         cb.albedo = vbl_v3(0.0, 0.0, 0.0);
         double u = u0;
         vbl_vec3 e = vbl_gather_volume_from_vsl(o, d, u0, u1, gs->g_camera, &v, photons->surface_vsl_peaks[j],

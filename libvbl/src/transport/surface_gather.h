@@ -17,6 +17,12 @@
  *                         f cos T V / max(w^2, c^2) (c = clamp_distance, 0: unbiased);
  *   surface_from_surface  surface VSLs: vsl_radius > 0: vbl_surface_from_surface (K_R, eq 11
  *                         radius), = 0: the VPL form Phi f_y cos_y f_x cos_x T V / max(w^2, c^2);
+ *                         plus, when the store's caustics are active (photon_trace.h) and x is
+ *                         not highly specular, the caustic photons within R_p
+ *                         (vbl_caustic_gather, progressive photon mapping) INSTEAD of the highly
+ *                         specular VSLs (the split of surface_caustics.h). A highly specular x
+ *                         gathers every VSL as before and no caustics (the camera path is not
+ *                         continued through the specular bounce);
  * and along the camera segment [u0, u1] in the media (u1 <= the hit distance):
  *   volume_from_surface   per surface VSL one vbl_volume_from_vsl sample (radius vsl_radius;
  *                         R = 0 with clamping as above), M(u) = sigma_t(x_u) T_c(u) T(x_u, y) V,
@@ -43,7 +49,16 @@ typedef struct vbl_surface_gather_settings {
     double clamp_distance; /* point forms: 1 / max(w^2, c^2); 0: no clamping (unbiased) */
     int kernel_samples;    /* cone-kernel directions per strategy when a radius is > 0 */
     double g_camera;       /* HG g at camera points (volume_from_surface) */
+    /* Surface caustics (surface_caustics.h; fields added here are 0 in the callers' stores):
+     * caustics VBL_SURFACE_CAUSTICS_GATHER (0) gathers the store's caustic photons into
+     * surface_from_surface, VBL_SURFACE_CAUSTICS_SKIP leaves them out (tests: the VSL part alone);
+     * caustic_radius > 0 overrides the store's R_p. */
+    int caustics;
+    double caustic_radius;
 } vbl_surface_gather_settings;
+
+#define VBL_SURFACE_CAUSTICS_GATHER 0
+#define VBL_SURFACE_CAUSTICS_SKIP 1
 
 #define VBL_SURFACE_KERNEL_SAMPLES_DEFAULT 8
 
