@@ -444,6 +444,61 @@ static void test_sphere_furnace(void** state)
     sphere_furnace(0.9);
 }
 
+/* White furnace: albedo-1 Lambert surfaces under a uniform environment of radiance 1. A closed
+ * cube standing on a floor, next to a wall (concave corners, so light bounces several times
+ * between surfaces before it escapes): L = 1 solves the rendering equation at every visible
+ * point, so every pixel of the beauty must be 1 within noise, whatever the geometry; the cube's
+ * faces and the corners exercise surface_direct + surface_from_surface (energy conservation of
+ * pt with surfaces, BRDF sampling, NEE to the environment and MIS). */
+static void test_white_furnace(void** state)
+{
+    (void)state;
+    const int W = 8, H = 6;
+    vbl_camera cam = rt_camera(vbl_v3(2.5, -3.0, 2.0), vbl_v3(0, 0, 0.4), 45.0, W, H);
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_create_empty("furnace", &cam, &scene), VBL_SUCCESS);
+    vbl_material white = lambert(1.0);
+    const vbl_vec3 X = vbl_v3(1, 0, 0), Y = vbl_v3(0, 1, 0), Z = vbl_v3(0, 0, 1);
+    add_square(scene, vbl_v3(0, 0, 0), X, Y, 3.0, &white);            /* floor */
+    add_square(scene, vbl_v3(0, 1.0, 1.5), X, Z, 3.0, &white);        /* wall behind the cube */
+    const double h = 0.4;                                             /* cube [-h, h]^2 x [0, 2h] */
+    add_square(scene, vbl_v3(0, 0, 0.001), X, Y, h, &white);
+    add_square(scene, vbl_v3(0, 0, 2 * h), X, Y, h, &white);
+    add_square(scene, vbl_v3(-h, 0, h), Y, Z, h, &white);
+    add_square(scene, vbl_v3(h, 0, h), Y, Z, h, &white);
+    add_square(scene, vbl_v3(0, -h, h), X, Z, h, &white);
+    add_square(scene, vbl_v3(0, h, h), X, Z, h, &white);
+    vbl_light env;
+    memset(&env, 0, sizeof env);
+    env.type = VBL_LIGHT_ENVIRONMENT;
+    env.color = vbl_v3(1.0, 1.0, 1.0);
+    assert_int_equal(vbl_scene_add_light(scene, &env), VBL_SUCCESS);
+    vbl_film* film = render(scene, VBL_RENDER_PT, 8, 64, 0, 17);
+    int ch = 0;
+    const float* beauty = vbl_film_layer(film, "", &ch);
+    const float* var = vbl_film_layer_rgb(film, "variance");
+    const float* sfs = vbl_film_layer_rgb(film, "surface_from_surface");
+    assert_non_null(beauty);
+    assert_non_null(var);
+    assert_non_null(sfs);
+    double sum = 0.0, vs = 0.0, worst = 0.0, bounced = 0.0;
+    for (int p = 0; p < W * H; ++p) {
+        double v = beauty[ch * p], se = sqrt(fmax(var[3 * p], 1e-12));
+        sum += v;
+        vs += var[3 * p];
+        worst = fmax(worst, fabs(v - 1.0) / se);
+        bounced += sfs[3 * p];
+    }
+    double mean = sum / (W * H), se = sqrt(vs) / (W * H);
+    printf("white furnace: image mean %.5f (se %.2g), worst pixel %.2f se, surface_from_surface mean %.3f\n", mean,
+           se, worst, bounced / (W * H));
+    assert_true(fabs(mean - 1.0) < 4.0 * se + 1e-4);
+    assert_true(worst < 5.0);
+    assert_true(bounced / (W * H) > 0.05); /* the corners really bounce light */
+    vbl_film_release(film);
+    vbl_scene_release(scene);
+}
+
 /* A Lambert plane under a uniform environment sees L = albedo L_env exactly (irradiance
  * pi L_env); a Phong plane's surface_direct under a quad light against a quadrature of
  * f L cos cos' / d^2 over the light (pixel-averaged): both exercise NEE + BRDF sampling + MIS. */
@@ -579,6 +634,7 @@ int main(int argc, char** argv)
     const struct CMUnitTest slow[] = {
         cmocka_unit_test(test_point_light_over_plane),
         cmocka_unit_test(test_sphere_furnace),
+        cmocka_unit_test(test_white_furnace),
         cmocka_unit_test(test_environment_and_quad_mis),
         cmocka_unit_test(test_occluded_media_agreement),
     };
