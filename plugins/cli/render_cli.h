@@ -24,6 +24,7 @@ typedef struct vbl_render_args {
     double vbl_radius0, vbl_alpha;                              /* --vbl-radius0/--vbl-alpha; < 0: not given */
     double beams_radius0, beams_alpha;                          /* --beams-radius0/--beams-alpha; < 0: not given */
     int vbl_single_scattering;                                  /* --vbl-single-scattering: 0 not given, 1, 2 */
+    int vsl_placement;          /* --vsl-placement: 0 not given, 1 light_paths, 2 blue_noise */
     int quiet;
     /* EXR storage */
     int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */

@@ -26,6 +26,9 @@ static void vbl_render_usage(FILE* out)
             "  --vbl-alpha A              vbl: radius reduction per pass, A in (0, 1) (default 0.7)\n"
             "  --vbl-single-scattering equiangular|beams\n"
             "                             vbl: volume_direct by equiangular sampling (default) or photon beams\n"
+            "  --vsl-placement light_paths|blue_noise\n"
+            "                             vpl, vrl, vbl: surface VSLs for surface_from_surface from light paths\n"
+            "                             (default) or camera-driven blue-noise placement\n"
             "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
             "                             half-width in world units (default: from the scene and beam density)\n"
             "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"
@@ -199,6 +202,10 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
         else if (!strcmp(a, "--vbl-single-scattering")) {
             ok = !strcmp(v, "equiangular") || !strcmp(v, "beams");
             if (ok) args->vbl_single_scattering = !strcmp(v, "beams") ? 2 : 1;
+        }
+        else if (!strcmp(a, "--vsl-placement")) {
+            ok = !strcmp(v, "light_paths") || !strcmp(v, "blue_noise");
+            if (ok) args->vsl_placement = !strcmp(v, "blue_noise") ? 2 : 1;
         }
         else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
         else if (!strcmp(a, "--half-layers")) args->half_layers = v;

@@ -46,6 +46,7 @@ int main(void)
     OFF(vbl_render_options, vbl_single_scattering);
     OFF(vbl_render_options, beams_radius0);
     OFF(vbl_render_options, beams_alpha);
+    OFF(vbl_render_options, vsl_placement);
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);

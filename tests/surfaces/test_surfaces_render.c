@@ -444,6 +444,61 @@ static void test_sphere_furnace(void** state)
     sphere_furnace(0.9);
 }
 
+/* A scene with surfaces and no medium: the virtual-light methods still trace light paths for the
+ * surface VSLs (they used to return early without media, leaving surface_from_surface black).
+ * vpl's surface_from_surface (R = 0, unbiased) matches pt's image mean on a floor + wall lit by
+ * a point light. */
+static void test_surfaces_only_indirect(void** state)
+{
+    (void)state;
+    const int W = 8, H = 6;
+    vbl_camera cam = rt_camera(vbl_v3(0.5, -3.0, 1.5), vbl_v3(0, 0.5, 0.5), 45.0, W, H);
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_create_empty("surfaces-only", &cam, &scene), VBL_SUCCESS);
+    vbl_material m = lambert(0.8);
+    add_square(scene, vbl_v3(0, 0, 0), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), 2.0, &m);   /* floor */
+    add_square(scene, vbl_v3(0, 1.0, 1.0), vbl_v3(1, 0, 0), vbl_v3(0, 0, 1), 2.0, &m); /* wall */
+    vbl_light l = point_light(vbl_v3(0.3, 0.2, 1.2), 5.0);
+    assert_int_equal(vbl_scene_add_light(scene, &l), VBL_SUCCESS);
+    double mean[2], se[2];
+    const vbl_render_method methods[2] = {VBL_RENDER_PT, VBL_RENDER_VPL};
+    for (int k = 0; k < 2; ++k) {
+        vbl_film* film = k == 0 ? render(scene, VBL_RENDER_PT, 8, 32, 0, 31) : render(scene, methods[k], 16, 1, 400, 37);
+        const float* sfs = vbl_film_layer_rgb(film, "surface_from_surface");
+        assert_non_null(sfs);
+        double sum = 0.0;
+        for (int p = 0; p < W * H; ++p) sum += sfs[3 * p + 1];
+        mean[k] = sum / (W * H);
+        vbl_film_release(film);
+    }
+    /* spread over seeds for the standard errors: 4 more seeds each, one film each */
+    double sq[2] = {0.0, 0.0}, m2[2] = {0.0, 0.0};
+    for (int k = 0; k < 2; ++k)
+        for (int r = 0; r < 4; ++r) {
+            vbl_film* film = k == 0 ? render(scene, VBL_RENDER_PT, 8, 32, 0, 100 + r)
+                                    : render(scene, VBL_RENDER_VPL, 16, 1, 400, 200 + r);
+            const float* sfs = vbl_film_layer_rgb(film, "surface_from_surface");
+            double sum = 0.0;
+            for (int p = 0; p < W * H; ++p) sum += sfs[3 * p + 1];
+            double v = sum / (W * H);
+            m2[k] += v / 5.0;
+            sq[k] += v * v;
+            vbl_film_release(film);
+        }
+    for (int k = 0; k < 2; ++k) {
+        m2[k] += mean[k] / 5.0;
+        sq[k] += mean[k] * mean[k];
+        double var = (sq[k] - 5.0 * m2[k] * m2[k]) / 4.0;
+        se[k] = sqrt(fmax(var, 0.0) / 5.0);
+    }
+    double z = fabs(m2[0] - m2[1]) / sqrt(se[0] * se[0] + se[1] * se[1] + 1e-30);
+    printf("surfaces only: surface_from_surface pt %.5f +- %.2g, vpl %.5f +- %.2g, z %.2f\n", m2[0], se[0], m2[1],
+           se[1], z);
+    assert_true(m2[1] > 0.0);
+    assert_true(z < 4.0);
+    vbl_scene_release(scene);
+}
+
 /* White furnace: albedo-1 Lambert surfaces under a uniform environment of radiance 1. A closed
  * cube standing on a floor, next to a wall (concave corners, so light bounces several times
  * between surfaces before it escapes): L = 1 solves the rendering equation at every visible
@@ -635,6 +690,7 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_point_light_over_plane),
         cmocka_unit_test(test_sphere_furnace),
         cmocka_unit_test(test_white_furnace),
+        cmocka_unit_test(test_surfaces_only_indirect),
         cmocka_unit_test(test_environment_and_quad_mis),
         cmocka_unit_test(test_occluded_media_agreement),
     };

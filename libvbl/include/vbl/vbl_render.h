@@ -142,12 +142,18 @@ typedef struct vbl_render_options {
     int vbl_single_scattering; /* vbl's volume_direct: 0 default, 1 equiangular, 2 photon beams */
     double beams_radius0;      /* photon beam half-width R_0, world units; 0: default from scene and beams */
     double beams_alpha;        /* (0,1): width reduction (eq 11, d = 1); 0: 0.7 */
+    /* ---- surface VSL placement for surface_from_surface of vpl/vrl/vbl (scene file:
+     * render.vsl_placement; docs/readme/blue_noise.md) */
+    int vsl_placement; /* VBL_VSL_PLACEMENT_LIGHT_PATHS (0, default) or VBL_VSL_PLACEMENT_BLUE_NOISE (1) */
 } vbl_render_options;
+
+#define VBL_VSL_PLACEMENT_LIGHT_PATHS 0
+#define VBL_VSL_PLACEMENT_BLUE_NOISE 1
 
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -75,6 +75,9 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (!(o->beams_alpha >= 0.0 && o->beams_alpha < 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: beams_alpha = %g is outside (0, 1) (0: default 0.7)",
                          o->beams_alpha);
+    if (o->vsl_placement != VBL_VSL_PLACEMENT_LIGHT_PATHS && o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_render: vsl_placement = %d must be 0 (light_paths) or 1 (blue_noise)", o->vsl_placement);
     return VBL_SUCCESS;
 }
 

@@ -413,7 +413,8 @@ static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJ
 static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
-                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams", NULL};
+                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams",
+                                       "vsl_placement", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -454,6 +455,17 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
             o->mis = VBL_MIS_BALANCE;
         else
             return vbl_json_fail(ctx, "render.mis = \"%s\" is not one of power, balance", s);
+    }
+    /* render.vsl_placement: "light_paths" (default) | "blue_noise" (docs/readme/blue_noise.md) */
+    s = NULL;
+    if ((r = vbl_json_string(ctx, obj, "render", "vsl_placement", 0, &s))) return r;
+    if (s) {
+        if (!strcmp(s, "light_paths"))
+            o->vsl_placement = VBL_VSL_PLACEMENT_LIGHT_PATHS;
+        else if (!strcmp(s, "blue_noise"))
+            o->vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+        else
+            return vbl_json_fail(ctx, "render.vsl_placement = \"%s\" is not one of light_paths, blue_noise", s);
     }
     return vbl_parse_estimator_settings(ctx, obj, o);
 }

@@ -323,7 +323,10 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
                          cs.alpha, cs.radius0);
     const int n = ctx->options.light_paths;
     const int M = ctx->options.max_bounces;
-    if (n <= 0 || scene->light_count == 0 || ctx->extinction->count == 0 || (M >= 0 && M < 2)) return VBL_SUCCESS;
+    /* surfaces-only scenes still need light paths for the surface VSLs and caustics */
+    const int surface_paths = store_surface_vsls && scene->surfaces != NULL;
+    if (n <= 0 || scene->light_count == 0 || (ctx->extinction->count == 0 && !surface_paths) || (M >= 0 && M < 2))
+        return VBL_SUCCESS;
 
     vbl_trace_shared sh;
     memset(&sh, 0, sizeof sh);
@@ -332,16 +335,22 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     sh.store_surface_vsls = store_surface_vsls && scene->surfaces != NULL;
     sh.caustics = sh.store_surface_vsls && cs.mode != VBL_CAUSTICS_OFF &&
                   vbl_materials_any_highly_specular(scene->materials, vbl_surfaces_count(scene->surfaces));
-    if (!vbl_media_bounding_sphere(scene, &sh.center, &sh.radius)) return VBL_SUCCESS;
+    const int have_media = vbl_media_bounding_sphere(scene, &sh.center, &sh.radius);
+    if (!have_media && !surface_paths) return VBL_SUCCESS;
     vbl_vec3 slo, shi;
     if (scene->surfaces && vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) {
         /* emit towards the media and the surfaces: the box around both, its circumsphere */
-        vbl_vec3 r = vbl_v3(sh.radius, sh.radius, sh.radius);
-        vbl_vec3 lo = vbl_v3_sub(sh.center, r), hi = vbl_v3_add(sh.center, r);
-        lo = vbl_v3(fmin(lo.x, slo.x), fmin(lo.y, slo.y), fmin(lo.z, slo.z));
-        hi = vbl_v3(fmax(hi.x, shi.x), fmax(hi.y, shi.y), fmax(hi.z, shi.z));
+        vbl_vec3 lo = slo, hi = shi;
+        if (have_media) {
+            vbl_vec3 r = vbl_v3(sh.radius, sh.radius, sh.radius);
+            vbl_vec3 mlo = vbl_v3_sub(sh.center, r), mhi = vbl_v3_add(sh.center, r);
+            lo = vbl_v3(fmin(mlo.x, slo.x), fmin(mlo.y, slo.y), fmin(mlo.z, slo.z));
+            hi = vbl_v3(fmax(mhi.x, shi.x), fmax(mhi.y, shi.y), fmax(mhi.z, shi.z));
+        }
         sh.center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
-        sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo));
+        sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)) * 1.001 + 1e-9;
+    } else if (!have_media) {
+        return VBL_SUCCESS;
     }
     sh.light_cdf[0] = 0.0;
     for (int i = 0; i < scene->light_count; ++i) {

@@ -2,12 +2,17 @@
 #include "transport/surface_gather.h"
 
 #include <math.h>
+#include <stdlib.h>
 
+#include "blue_noise/gather.h"
+#include "blue_noise/prepare.h"
+#include "core/error.h"
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
 #include "transport/surface_caustics.h"
 #include "transport/surface_cone_kernel.h"
 #include "transport/surface_from_volume.h"
+#include "transport/pt.h"
 #include "transport/surface_vsl.h"
 
 /* Callback state: the render context plus the albedo mix (sigma_s / sigma_t, RGB) at the last
@@ -165,6 +170,103 @@ static vbl_vec3 vbl_surface_nee(const vbl_render_context* ctx, vbl_thread_state*
     return sum;
 }
 
+/* vbl_bn_trace_fn over the scene's surfaces (no media: vbl_surface_gather_blue_noise_begin). */
+static int vbl_bn_trace_surfaces(void* user, vbl_vec3 origin, vbl_vec3 dir, vbl_vec3* position, vbl_vec3* normal)
+{
+    const vbl_surfaces* s = user;
+    vbl_surface_hit hit;
+    if (!vbl_surfaces_intersect(s, origin, dir, 0.0, INFINITY, &hit)) return 0;
+    *position = hit.position;
+    *normal = hit.shading_normal;
+    return 1;
+}
+
+/* surface_from_surface at x from the blue-noise lights (vbl_bn_gather, eqs 3-9) plus the eq 6
+ * path extension: a pt path from x along the gather's BSDF sample, times f cos / pdf (1 - w_v);
+ * its light reflected at least once after x (everything but its emission class, which is the
+ * direct light surface_direct already has) with max_bounces one less. */
+static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                            const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
+                                            const vbl_surface_hit* hit, vbl_vec3 wo, vbl_rng* rng)
+{
+    const vbl_scene* scene = ctx->scene;
+    const int M = ctx->options.max_bounces;
+    vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
+    if (!gs->blue_noise || (M >= 0 && M < 2)) return sum;
+    const vbl_bn_prepared* bn = gs->blue_noise;
+    vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
+                         &scene->materials[hit->material],
+                         vbl_surfaces_ray_epsilon(scene->surfaces, hit->position)};
+    double u[6];
+    for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
+    vbl_bn_gather_result res;
+    vbl_bn_gather(&bn->set, &bn->emission, &sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
+                  VBL_BN_N_MIN_DEFAULT, VBL_BN_N_MAX_DEFAULT, &res);
+    sum = res.L;
+    if (!res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
+    vbl_render_context sub = *ctx;
+    if (M >= 0) sub.options.max_bounces = M - 1;
+    vbl_camera_sample cs = *sample;
+    cs.origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, res.bsdf_dir);
+    cs.direction = res.bsdf_dir;
+    cs.t_max = INFINITY;
+    vbl_sample_value v;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) v.L[c] = vbl_v3(0.0, 0.0, 0.0);
+    vbl_pt_camera_sample(&sub, NULL, ts, &cs, rng, &v);
+    vbl_vec3 L = vbl_v3(0.0, 0.0, 0.0);
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c)
+        if (c != VBL_CLASS_EMISSION) L = vbl_v3_add(L, v.L[c]);
+    return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
+}
+
+vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_render_options* o = &ctx->options;
+    gs->blue_noise = NULL;
+    gs->blue_noise_mode = 0;
+    if (o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE || !scene->surfaces) return VBL_SUCCESS;
+    if (scene->media_count > 0)
+        return vbl_error(VBL_ERROR_UNSUPPORTED,
+                         "%s: render.vsl_placement = blue_noise is not supported in scenes with media yet "
+                         "(use light_paths)", scene->path);
+    gs->blue_noise_mode = 1;
+    const int M = o->max_bounces;
+    if (o->light_paths <= 0 || (M >= 0 && M < 2)) return VBL_SUCCESS; /* no surface_from_surface */
+    vbl_rng rng = vbl_rng_make(o->seed ^ VBL_RNG_DOMAIN_BLUE_NOISE, ctx->pass, 0);
+    uint64_t seeds[2];
+    for (int i = 0; i < 2; ++i) {
+        uint64_t hi = vbl_rng_next_u32(&rng);
+        seeds[i] = (hi << 32) | vbl_rng_next_u32(&rng);
+    }
+    vbl_bn_prepare_options po = VBL_BN_PREPARE_DEFAULT;
+    po.lights = (size_t)o->light_paths;
+    po.placement.seed = seeds[0];
+    po.placement.candidates = 10 * po.lights;
+    po.photons.seed = seeds[1];
+    po.photons.paths = 10 * (size_t)o->light_paths;
+    po.photons.max_bounce = M >= 0 ? M - 2 : -1;
+    vbl_bn_prepared* bn = calloc(1, sizeof *bn);
+    if (!bn) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (blue-noise lights)", scene->path);
+    vbl_result r = vbl_bn_prepare(scene, &po, bn);
+    if (r) {
+        vbl_bn_prepared_free(bn);
+        free(bn);
+        return r;
+    }
+    gs->blue_noise = bn;
+    return VBL_SUCCESS;
+}
+
+void vbl_surface_gather_blue_noise_end(vbl_surface_gather_settings* gs)
+{
+    if (gs->blue_noise) {
+        vbl_bn_prepared_free(gs->blue_noise);
+        free(gs->blue_noise);
+    }
+    gs->blue_noise = NULL;
+}
+
 void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_photon_store* photons,
                             const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample, vbl_rng* rng,
                             vbl_sample_value* out)
@@ -236,6 +338,12 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     /* surface_from_surface. The caustic split (surface_caustics.h): at a receiver that is not
      * highly specular, light from a highly specular VSL comes from the caustic photons instead. */
     vbl_vec3 from_surface = vbl_v3(0.0, 0.0, 0.0);
+    if (gs->blue_noise_mode) {
+        from_surface = vbl_surface_from_blue_noise(ctx, ts, gs, sample, &hit, wo, rng);
+        out->L[VBL_CLASS_SURFACE_FROM_SURFACE] =
+            vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_SURFACE], from_surface, tcam);
+        return;
+    }
     const int split = photons->caustics_active && !vbl_material_is_highly_specular(m);
     if (split && gs->caustics != VBL_SURFACE_CAUSTICS_SKIP) {
         double R = gs->caustic_radius > 0.0 ? gs->caustic_radius : photons->caustic_radius;

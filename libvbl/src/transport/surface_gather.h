@@ -55,7 +55,14 @@ typedef struct vbl_surface_gather_settings {
      * caustic_radius > 0 overrides the store's R_p. */
     int caustics;
     double caustic_radius;
+    /* Blue-noise surface VSLs (render.vsl_placement = blue_noise; docs/readme/blue_noise.md):
+     * set by vbl_surface_gather_blue_noise_begin, NULL otherwise. */
+    struct vbl_bn_prepared* blue_noise;
+    int blue_noise_mode; /* 1: surface_from_surface from `blue_noise` (nothing when it is NULL) */
 } vbl_surface_gather_settings;
+
+/* Separates the blue-noise preparation's random streams: (seed ^ this, pass, 0). */
+#define VBL_RNG_DOMAIN_BLUE_NOISE 0x424C55454E4F4953ull /* "BLUENOIS" */
 
 #define VBL_SURFACE_CAUSTICS_GATHER 0
 #define VBL_SURFACE_CAUSTICS_SKIP 1
@@ -74,6 +81,22 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
                                 const vbl_surface_gather_settings* settings, const vbl_camera_sample* sample,
                                 const vbl_transmittance_cache* cache, double u0, double u1, vbl_rng* rng,
                                 vbl_sample_value* out);
+
+/* The per-pass hook of vpl/vrl/vbl (call at the end of pass_begin, after the photon store):
+ * with options.vsl_placement == VBL_VSL_PLACEMENT_BLUE_NOISE and surfaces, prepares this pass's
+ * blue-noise light set with vbl_bn_prepare (blue_noise/prepare.h), seeds drawn from
+ * vbl_rng_make(seed ^ VBL_RNG_DOMAIN_BLUE_NOISE, pass, 0):
+ *   N = light_paths lights kept from 10 N camera candidates, 10 light_paths light paths split
+ *   with max_bounce = M - 2 (M = max_bounces; unlimited for M < 0), 16x16 profiles.
+ * surface_from_surface at the camera's first surface hit x then comes from vbl_bn_gather (light
+ * + BSDF sample, MIS) plus the path extension of eq 6 on the gather's BSDF sample: a pt path
+ * from x along it, weighted by f cos / pdf (1 - w_v) (light reflected at least once after x).
+ * The light-path surface VSLs still give volume_from_surface; no caustic photons are gathered
+ * (highly specular senders are part of the blue-noise lights' profiles). Media are not
+ * supported yet (VBL_ERROR_UNSUPPORTED: the blue-noise light paths ignore them). Otherwise
+ * (light paths, no surfaces) it does nothing. */
+vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs);
+void vbl_surface_gather_blue_noise_end(vbl_surface_gather_settings* gs);
 
 /* Default R_0 of surface VSLs: sqrt(A / N) with A half the surface area of the surfaces'
  * bounding box (a plane's area for a flat scene) and N the surface VSLs of one pass (a point

@@ -126,6 +126,12 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
             return r;
         }
     }
+    if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+        vbl_photon_beam_gather_free(s->beams);
+        vbl_photon_store_free(&s->photons);
+        free(s);
+        return r;
+    }
     *store = s;
     return VBL_SUCCESS;
 }
@@ -142,6 +148,7 @@ void vbl_vbl_pass_end(const vbl_render_context* ctx, void* store)
     (void)ctx;
     vbl_vbl_store* s = store;
     if (!s) return;
+    vbl_surface_gather_blue_noise_end(&s->gather);
     vbl_photon_beam_gather_free(s->beams);
     vbl_photon_store_free(&s->photons);
     free(s);

@@ -45,6 +45,11 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
     s->gather.vpls = 1;
     s->gather.clamp_distance = settings->clamp_distance; /* surface VSLs are VPLs: R = 0 */
     s->gather.g_camera = w > 0.0 ? g / w : 0.0;
+    if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+        vbl_photon_store_free(&s->photons);
+        free(s);
+        return r;
+    }
     *store = s;
     return VBL_SUCCESS;
 }
@@ -68,6 +73,7 @@ void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store)
     (void)ctx;
     vbl_vpl_store* s = store;
     if (!s) return;
+    vbl_surface_gather_blue_noise_end(&s->gather);
     vbl_photon_store_free(&s->photons);
     free(s);
 }

@@ -89,6 +89,11 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
                                                     : vbl_surface_vsl_default_r0(scene, s->photons.surface_vsl_count);
         s->gather.vsl_radius = vbl_radius_at_pass(r0, alpha, 2, ctx->pass);
     }
+    if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+        vbl_photon_store_free(&s->photons);
+        free(s);
+        return r;
+    }
     *store = s;
     return VBL_SUCCESS;
 }
@@ -127,6 +132,7 @@ void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store)
     (void)ctx;
     vbl_vrl_store* s = store;
     if (!s) return;
+    vbl_surface_gather_blue_noise_end(&s->gather);
     vbl_photon_store_free(&s->photons);
     free(s);
 }

@@ -167,7 +167,8 @@ class _RenderOptions(ctypes.Structure):
                 ("first_pass", ctypes.c_int),
                 ("vbl_single_scattering", ctypes.c_int),
                 ("beams_radius0", ctypes.c_double),
-                ("beams_alpha", ctypes.c_double)]
+                ("beams_alpha", ctypes.c_double),
+                ("vsl_placement", ctypes.c_int)]
 
 
 class _FilmStats(ctypes.Structure):
@@ -347,7 +348,7 @@ RENDER_OPTION_FIELDS = tuple(name for name, _ in _RenderOptions._fields_ if name
 def _default_render_options():
     # VBL_RENDER_OPTIONS_DEFAULT
     return _RenderOptions(ctypes.sizeof(_RenderOptions), 0, 16, 4, 10000, 0, 0.0, 0, -1, 1, 0,
-                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0)
+                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0)
 
 
 def _options_to_dict(options):
