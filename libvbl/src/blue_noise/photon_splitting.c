@@ -211,6 +211,7 @@ vbl_result vbl_bn_emission_from_field(const vbl_bn_incident_field* f, const vbl_
     e->lights = f->lights;
     e->light_count = f->light_count;
     e->resolution = res;
+    e->radiance = 0;
     e->offset = (size_t*)malloc((f->light_count + 1) * sizeof(size_t));
     e->values = (vbl_vec3*)calloc(f->offset[f->light_count] ? f->offset[f->light_count] : 1, sizeof(vbl_vec3));
     e->power = (vbl_vec3*)calloc(f->light_count ? f->light_count : 1, sizeof(vbl_vec3));
@@ -271,5 +272,5 @@ vbl_vec3 vbl_bn_emission_intensity(const vbl_bn_emission* e, size_t light, vbl_v
     if (!(c > 0.0)) return vbl_v3(0, 0, 0);
     size_t slot = e->offset[light];
     if (!l->diffuse) slot += (size_t)vbl_oct_cell(vbl_bn_to_local(l->normal, omega), e->resolution);
-    return vbl_v3_scale(e->values[slot], c);
+    return e->radiance ? e->values[slot] : vbl_v3_scale(e->values[slot], c);
 }

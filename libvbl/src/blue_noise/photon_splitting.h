@@ -83,6 +83,8 @@ typedef struct vbl_bn_emission {
     size_t* offset;   /* as in the field */
     vbl_vec3* values; /* J per outgoing cell (diffuse: one value) */
     vbl_vec3* power;  /* P_j per light (eq 4) */
+    int radiance;     /* 0: values are J (intensity J cos); 1: radiance J / (pi r^2) of eq 3's photon
+                         light, no cos (vbl_bn_prepared_to_radiance, prepare.h) */
 } vbl_bn_emission;
 
 /* Converts the incident field to outgoing profiles with the lights' materials (OpenMP over
@@ -91,7 +93,8 @@ vbl_result vbl_bn_emission_from_field(const vbl_bn_incident_field* field, const 
                                       size_t material_count, vbl_bn_emission* out);
 void vbl_bn_emission_free(vbl_bn_emission* e);
 /* Radiant intensity of light i towards the world direction omega (unit): J(cell of omega) times
- * max(0, n . omega) (eq 3's I_j^e). */
+ * max(0, n . omega) (eq 3's I_j^e); with e->radiance, the radiance J / (pi r^2) for n . omega > 0
+ * (no cos: eq 3's photon light), 0 behind the light. */
 vbl_vec3 vbl_bn_emission_intensity(const vbl_bn_emission* e, size_t light, vbl_vec3 omega);
 
 /* World <-> light-local frame (normal = +z, vbl_v3_basis). */

@@ -1,6 +1,7 @@
 /* One-call virtual blue noise light preparation (prepare.h). */
 #include "blue_noise/prepare.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,4 +48,19 @@ vbl_result vbl_bn_prepare(const vbl_scene* scene, const vbl_bn_prepare_options* 
 fail:
     vbl_bn_prepared_free(out);
     return rc;
+}
+
+vbl_result vbl_bn_prepared_to_radiance(vbl_bn_prepared* p)
+{
+    vbl_bn_emission* e = &p->emission;
+    for (size_t j = 0; j < p->light_count; ++j) {
+        double r = p->lights[j].radius;
+        double s = r > 0.0 ? 1.0 / (VBL_PI * r * r) : 0.0; /* radius > 0 by construction */
+        for (size_t k = e->offset[j]; k < e->offset[j + 1]; ++k) e->values[k] = vbl_v3_scale(e->values[k], s);
+        e->power[j] = vbl_v3_scale(e->power[j], s);
+    }
+    e->radiance = 1;
+    double alpha = p->set.alpha;
+    vbl_bn_light_set_free(&p->set);
+    return vbl_bn_light_set_init(&p->set, p->lights, p->light_count, e->power, alpha);
 }

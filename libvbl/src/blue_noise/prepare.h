@@ -41,4 +41,11 @@ typedef struct vbl_bn_prepared {
 vbl_result vbl_bn_prepare(const vbl_scene* scene, const vbl_bn_prepare_options* options, vbl_bn_prepared* out);
 void vbl_bn_prepared_free(vbl_bn_prepared* p);
 
+/* For rendering with vbl_bn_gather: eq 3's photon light has RADIANCE L_j(y, w) = I_j(w) / A_j
+ * over its disc A_j = pi r_j^2 (a light's profile is the intensity of the flux it gathered by
+ * photon splitting; with the partition of unity, sum_{i containing y} Phi_i f / A_i is the
+ * density estimate of the reflected radiance at y). Divides each light's profile and P_j by
+ * pi r_j^2 and rebuilds the power-based selection (eq 4) from the new P_j. */
+vbl_result vbl_bn_prepared_to_radiance(vbl_bn_prepared* p);
+
 #endif

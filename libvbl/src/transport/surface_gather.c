@@ -249,6 +249,7 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
     vbl_bn_prepared* bn = calloc(1, sizeof *bn);
     if (!bn) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (blue-noise lights)", scene->path);
     vbl_result r = vbl_bn_prepare(scene, &po, bn);
+    if (!r) r = vbl_bn_prepared_to_radiance(bn);
     if (r) {
         vbl_bn_prepared_free(bn);
         free(bn);

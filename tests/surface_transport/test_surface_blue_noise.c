@@ -1,0 +1,306 @@
+/* render.vsl_placement = blue_noise: surface_from_surface of vpl/vrl/vbl from the blue-noise
+ * virtual lights (surface_gather.h, blue_noise/prepare.h, blue_noise/gather.h).
+ *
+ * Scene: an open-front Lambert box [-1, 1]^3 (albedo 0.6, a green back wall) lit by a point light
+ * near its ceiling, seen from outside through the open front.
+ *
+ * Fast (no argument):
+ *   - options: scene key render.vsl_placement (both values; a bad value names the field),
+ *     validation of the struct field, blue noise with media -> VBL_ERROR_UNSUPPORTED;
+ *   - renders with blue noise (vpl, vrl, vbl): finite, layers sum to beauty, surface_from_surface
+ *     > 0, 1 and 2 threads bit-identical; light paths explicitly (0) = the default options.
+ * `slow`: surface_from_surface against pt (4096 spp): image-mean error and 3x3-block rMAE of
+ * blue noise (vpl, 16 passes x 8 spp) with N = 64 and N = 1024 lights per pass (both must fall;
+ * N = 1024 within 2% / 10%), and, printed for the record, the light-path VSLs (vrl radius VSLs,
+ * vpl point VSLs; 400 light paths per pass) against blue noise with as many lights as vrl's
+ * store had VSLs per pass. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "material/material.h"
+#include "render/render_internal.h"
+#include "render_test_util.h"
+#include "transport/photon_trace.h"
+#include "transport/vrl.h"
+#include "transport_test_util.h"
+#include "vbl/vbl.h"
+#include "volume_test_grid.h"
+
+#define W 24
+#define H 18
+#define BLOCK 3
+#define PASSES 16 /* slow test: passes and spp per pass of the virtual-light renders */
+#define SPP 8
+
+static const char* layer_names[VBL_CLASS_COUNT] = {"emission",           "surface_direct",      "volume_direct",
+                                                   "surface_from_surface", "surface_from_volume", "volume_from_surface",
+                                                   "volume_from_volume"};
+
+static void add_quad(vbl_scene* scene, vbl_vec3 c, vbl_vec3 u, vbl_vec3 v, const vbl_material* m)
+{
+    double p[12];
+    const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
+    for (int i = 0; i < 4; ++i) {
+        vbl_vec3 q = vbl_v3_add(c, vbl_v3_add(vbl_v3_scale(u, su[i]), vbl_v3_scale(v, sv[i])));
+        p[3 * i] = q.x;
+        p[3 * i + 1] = q.y;
+        p[3 * i + 2] = q.z;
+    }
+    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    assert_int_equal(vbl_scene_add_mesh(scene, p, 4, idx, 2, m, NULL), VBL_SUCCESS);
+}
+
+static vbl_scene* make_box(void)
+{
+    vbl_camera cam = rt_camera(vbl_v3(0.0, -3.2, 0.0), vbl_v3(0, 0, 0), 40.0, W, H);
+    vbl_scene* s = tt_scene(&cam);
+    tt_add_point(s, vbl_v3(0.2, 0.1, 0.8), 3.0);
+    vbl_material grey = {VBL_MATERIAL_LAMBERT, {0.6, 0.6, 0.6}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material red = {VBL_MATERIAL_LAMBERT, {0.7, 0.2, 0.2}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material green = {VBL_MATERIAL_LAMBERT, {0.2, 0.6, 0.3}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(s, vbl_v3(0, 0, -1), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), &grey);  /* floor */
+    add_quad(s, vbl_v3(0, 0, 1), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), &grey);   /* ceiling */
+    add_quad(s, vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, 1), &green);  /* back */
+    add_quad(s, vbl_v3(-1, 0, 0), vbl_v3(0, 1, 0), vbl_v3(0, 0, 1), &red);   /* left */
+    add_quad(s, vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), vbl_v3(0, 0, 1), &grey);   /* right */
+    return s;
+}
+
+static vbl_film* render(const vbl_scene* s, vbl_render_method method, int placement, int passes, int spp, int paths,
+                        uint64_t seed, int threads)
+{
+    vbl_render_options o = tt_options(passes, spp, paths, seed);
+    o.method = method;
+    o.threads = threads;
+    o.vsl_placement = placement;
+    vbl_film* film = NULL;
+    if (vbl_render(s, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+static double layer_total(const vbl_film* film, const char* name)
+{
+    const float* p = vbl_film_layer_rgb(film, name);
+    double s = 0.0;
+    if (p)
+        for (int i = 0; i < 3 * W * H; ++i) s += p[i];
+    return s;
+}
+
+static void check_sum_to_beauty(const vbl_film* film)
+{
+    int ch = 0;
+    const float* beauty = vbl_film_layer(film, "", &ch);
+    assert_non_null(beauty);
+    for (int p = 0; p < W * H; ++p)
+        for (int k = 0; k < 3; ++k) {
+            double s = 0.0;
+            for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+                const float* L = vbl_film_layer_rgb(film, layer_names[l]);
+                if (L) s += L[3 * p + k];
+            }
+            double b = beauty[ch * p + k];
+            assert_true(fabs(s - b) <= 1e-4 * fmax(1.0, fabs(b)));
+        }
+    assert_true(tt_film_finite(film));
+}
+
+static int films_identical(const vbl_film* a, const vbl_film* b)
+{
+    if (vbl_film_layer_count(a) != vbl_film_layer_count(b)) return 0;
+    for (int l = 0; l < vbl_film_layer_count(a); ++l) {
+        const char* name = vbl_film_layer_name(a, l);
+        int ca = 0, cb = 0;
+        const float* pa = vbl_film_layer(a, name, &ca);
+        const float* pb = vbl_film_layer(b, name, &cb);
+        if (!pa || !pb || ca != cb || memcmp(pa, pb, sizeof(float) * (size_t)ca * W * H) != 0) return 0;
+    }
+    return 1;
+}
+
+/* ---- fast ---------------------------------------------------------------------------------- */
+
+#define CAMERA "\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 30, \"resolution\": [4, 3]}"
+
+static void test_options(void** state)
+{
+    (void)state;
+    char dir[256], path[512], expected[1024];
+    rt_make_temp_dir(dir);
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
+    vbl_scene* scene = NULL;
+    rt_write_file(dir, "bn.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"blue_noise\"}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_BLUE_NOISE);
+    vbl_scene_release(scene);
+    rt_write_file(dir, "lp.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"light_paths\"}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
+    vbl_scene_release(scene);
+    scene = NULL;
+    rt_write_file(dir, "bad.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"camera\"}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
+    snprintf(expected, sizeof expected, "%s: render.vsl_placement = \"camera\" is not one of light_paths, blue_noise",
+             path);
+    assert_string_equal(vbl_last_error_message(), expected);
+    assert_null(scene);
+    rt_write_file(dir, "bad2.json", "{" CAMERA ", \"render\": {\"vsl_placement\": 1}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
+    assert_non_null(strstr(vbl_last_error_message(), "render.vsl_placement"));
+    rt_remove_dir(dir);
+
+    /* the struct field is validated */
+    vbl_scene* box = make_box();
+    vbl_render_options b = tt_options(1, 1, 16, 1);
+    b.method = VBL_RENDER_VPL;
+    vbl_film* f = NULL;
+    b.vsl_placement = 2;
+    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vsl_placement"));
+    b.vsl_placement = -1;
+    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
+    assert_null(f);
+    /* media: not supported yet, one clear message */
+    vbl_volume* vol = tt_make_sphere(8, 0.3);
+    assert_int_equal(vbl_scene_add_medium(box, vol, 1.0, vbl_v3(0.8, 0.8, 0.8), 0.0, NULL), VBL_SUCCESS);
+    b.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_UNSUPPORTED);
+    assert_non_null(strstr(vbl_last_error_message(), "render.vsl_placement = blue_noise"));
+    assert_null(f);
+    vbl_scene_release(box);
+    vt_free(vol);
+}
+
+static void test_render_blue_noise(void** state)
+{
+    (void)state;
+    vbl_scene* s = make_box();
+    const vbl_render_method methods[3] = {VBL_RENDER_VPL, VBL_RENDER_VRL, VBL_RENDER_VBL};
+    for (int e = 0; e < 3; ++e) {
+        vbl_film* a = render(s, methods[e], VBL_VSL_PLACEMENT_BLUE_NOISE, 2, 1, 200, 7, 1);
+        vbl_film* b = render(s, methods[e], VBL_VSL_PLACEMENT_BLUE_NOISE, 2, 1, 200, 7, 2);
+        check_sum_to_beauty(a);
+        double sfs = layer_total(a, "surface_from_surface"), dir = layer_total(a, "surface_direct");
+        printf("method %d blue noise: surface_direct %.5g surface_from_surface %.5g\n", (int)methods[e], dir, sfs);
+        assert_true(sfs > 0.0 && dir > 0.0);
+        assert_true(films_identical(a, b));
+        /* light paths: the option at 0 is the default, and blue noise is a different estimate */
+        vbl_film* lp = render(s, methods[e], VBL_VSL_PLACEMENT_LIGHT_PATHS, 2, 1, 200, 7, 2);
+        vbl_render_options d = tt_options(2, 1, 200, 7);
+        d.method = methods[e];
+        vbl_film* def = NULL;
+        assert_int_equal(vbl_render(s, &d, &def), VBL_SUCCESS);
+        assert_true(films_identical(lp, def));
+        assert_false(films_identical(lp, a));
+        /* surface_direct does not depend on the placement (same random numbers up to there) */
+        assert_true(layer_total(lp, "surface_direct") > 0.0);
+        vbl_film_release(a);
+        vbl_film_release(b);
+        vbl_film_release(lp);
+        vbl_film_release(def);
+    }
+    vbl_scene_release(s);
+}
+
+/* ---- slow ---------------------------------------------------------------------------------- */
+
+static double block_rmae(const float* a, const float* ref, double* mean_err)
+{
+    double num = 0.0, den = 0.0, sa = 0.0, sr = 0.0;
+    for (int by = 0; by < H / BLOCK; ++by)
+        for (int bx = 0; bx < W / BLOCK; ++bx) {
+            double ma = 0.0, mr = 0.0;
+            for (int y = by * BLOCK; y < (by + 1) * BLOCK; ++y)
+                for (int x = bx * BLOCK; x < (bx + 1) * BLOCK; ++x)
+                    for (int k = 0; k < 3; ++k) {
+                        ma += a[3 * (y * W + x) + k];
+                        mr += ref[3 * (y * W + x) + k];
+                    }
+            num += fabs(ma - mr);
+            den += mr;
+            sa += ma;
+            sr += mr;
+        }
+    *mean_err = fabs(sa - sr) / sr;
+    return num / den;
+}
+
+static size_t g_vsl_count;
+static vbl_result vrl_count_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings st;
+    vbl_vrl_settings_from_options(&ctx->options, &st);
+    vbl_result r = vbl_vrl_pass_begin_with(ctx, &st, store);
+    if (!r) g_vsl_count += vbl_vrl_store_photons(*store)->surface_vsl_count;
+    return r;
+}
+
+static void test_against_pt(void** state)
+{
+    (void)state;
+    vbl_scene* s = make_box();
+    vbl_film* ref = render(s, VBL_RENDER_PT, 0, 32, 128, 0, 101, 2);
+    const float* R = vbl_film_layer_rgb(ref, "surface_from_surface");
+    assert_non_null(R);
+    printf("pt surface_from_surface total %.5g (direct %.5g)\n", layer_total(ref, "surface_from_surface"),
+           layer_total(ref, "surface_direct"));
+    /* blue noise: N = light_paths lights (10 N candidates, 10 N light paths) per pass */
+    const int lights[2] = {64, 1024};
+    double rmae[2], merr[2];
+    for (int i = 0; i < 2; ++i) {
+        vbl_film* f = render(s, VBL_RENDER_VPL, VBL_VSL_PLACEMENT_BLUE_NOISE, PASSES, SPP, lights[i], 202 + i, 2);
+        assert_true(tt_film_finite(f));
+        rmae[i] = block_rmae(vbl_film_layer_rgb(f, "surface_from_surface"), R, &merr[i]);
+        printf("blue noise N = %4d: image-mean error %.4f, block rMAE %.4f\n", lights[i], merr[i], rmae[i]);
+        vbl_film_release(f);
+    }
+    assert_true(rmae[1] < rmae[0]);
+    assert_true(merr[1] < merr[0]);
+    assert_true(merr[1] < 0.02 && rmae[1] < 0.1);
+    /* light-path VSLs (radius VSLs of vrl, point VSLs of vpl) from 400 light paths per pass, and
+     * blue noise with as many lights as vrl's store had VSLs per pass */
+    vbl_render_options o = tt_options(PASSES, SPP, 400, 303);
+    vbl_estimator probe = vbl_estimator_vrl;
+    probe.pass_begin = vrl_count_begin;
+    g_vsl_count = 0;
+    vbl_film* f = NULL;
+    assert_int_equal(vbl_render_with_estimator(s, &o, &probe, &f), VBL_SUCCESS);
+    const int n_eq = (int)(g_vsl_count / PASSES);
+    double me = 0.0, e = block_rmae(vbl_film_layer_rgb(f, "surface_from_surface"), R, &me);
+    printf("light paths, vrl radius VSLs, %d VSLs per pass: image-mean error %.4f, block rMAE %.4f\n", n_eq, me, e);
+    vbl_film_release(f);
+    f = render(s, VBL_RENDER_VPL, VBL_VSL_PLACEMENT_LIGHT_PATHS, PASSES, SPP, 400, 303, 2);
+    e = block_rmae(vbl_film_layer_rgb(f, "surface_from_surface"), R, &me);
+    printf("light paths, vpl point VSLs, same light paths: image-mean error %.4f, block rMAE %.4f\n", me, e);
+    vbl_film_release(f);
+    f = render(s, VBL_RENDER_VPL, VBL_VSL_PLACEMENT_BLUE_NOISE, PASSES, SPP, n_eq, 303, 2);
+    e = block_rmae(vbl_film_layer_rgb(f, "surface_from_surface"), R, &me);
+    printf("blue noise, N = %d lights per pass: image-mean error %.4f, block rMAE %.4f\n", n_eq, me, e);
+    assert_true(me < 0.02 && e < 0.1);
+    vbl_film_release(f);
+    vbl_film_release(ref);
+    vbl_scene_release(s);
+}
+
+int main(int argc, char** argv)
+{
+    if (argc > 1 && !strcmp(argv[1], "slow")) {
+        const struct CMUnitTest slow[] = {cmocka_unit_test(test_against_pt)};
+        return cmocka_run_group_tests(slow, NULL, NULL);
+    }
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_options),
+        cmocka_unit_test(test_render_blue_noise),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
