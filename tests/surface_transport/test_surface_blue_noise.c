@@ -13,7 +13,10 @@
  * blue noise (vpl, 16 passes x 8 spp) with N = 64 and N = 1024 lights per pass (both must fall;
  * N = 1024 within 2% / 10%), and, printed for the record, the light-path VSLs (vrl radius VSLs,
  * vpl point VSLs; 400 light paths per pass) against blue noise with as many lights as vrl's
- * store had VSLs per pass. */
+ * store had VSLs per pass. Corner darkening: surface_from_surface over the 2x2 blocks at the
+ * box's back corners, pt (8 seeds) against clamped light-path VPLs (vpl_clamp_distance 0.25) and
+ * blue noise with the path extension (8 seeds): blue noise's error below the clamped VPLs' and
+ * within 4 standard errors of pt. `slow NAME` runs one slow test. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -292,10 +295,81 @@ static void test_against_pt(void** state)
     vbl_scene_release(s);
 }
 
+/* Corner darkening (issue 8): surface_from_surface summed over the 2x2 pixel blocks at the four
+ * back corners of the box, where the back wall meets a side wall and the floor or ceiling. With
+ * the camera at (0, -3.2, 0), vertical fov 40 deg and 24x18 pixels, the corner (+-1, 1, +-1) at
+ * depth 4.2 projects to pixel (12 +- 5.89, 9 -+ 5.89): blocks x 5..6 / 17..18, y 2..3 / 14..15. */
+static double corner_sum(const vbl_film* film)
+{
+    const float* p = vbl_film_layer_rgb(film, "surface_from_surface");
+    assert_non_null(p);
+    const int x0[2] = {5, 17}, y0[2] = {2, 14};
+    double s = 0.0;
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+            for (int y = y0[j]; y < y0[j] + 2; ++y)
+                for (int x = x0[i]; x < x0[i] + 2; ++x)
+                    for (int k = 0; k < 3; ++k) s += p[3 * (y * W + x) + k];
+    return s;
+}
+
+#define CORNER_REPS 8
+#define CORNER_PT_PASSES 16
+#define CORNER_BN_PASSES 8
+#define CORNER_CLAMP 0.25
+/* mean and standard error of the corner sum over CORNER_REPS renders with different seeds */
+static double corner_mean(const vbl_scene* s, vbl_render_method method, int placement, int passes, int spp,
+                          int paths, uint64_t seed, double* se)
+{
+    double v[CORNER_REPS], m = 0.0, var = 0.0;
+    for (int r = 0; r < CORNER_REPS; ++r) {
+        vbl_film* f = render(s, method, placement, passes, spp, paths, seed + (uint64_t)r, 2);
+        assert_true(tt_film_finite(f));
+        v[r] = corner_sum(f);
+        m += v[r] / CORNER_REPS;
+        vbl_film_release(f);
+    }
+    for (int r = 0; r < CORNER_REPS; ++r) var += (v[r] - m) * (v[r] - m) / (CORNER_REPS - 1);
+    *se = sqrt(var / CORNER_REPS);
+    return m;
+}
+
+static void test_corner_darkening(void** state)
+{
+    (void)state;
+    vbl_scene* s = make_box();
+    double se_pt = 0.0, se_bn = 0.0;
+    const double pt = corner_mean(s, VBL_RENDER_PT, 0, CORNER_PT_PASSES, 128, 0, 501, &se_pt);
+    /* (b) light-path point VSLs with the classic distance clamp 1/max(w^2, c^2), c = 0.25 */
+    vbl_render_options o = tt_options(PASSES, SPP, 400, 601);
+    o.method = VBL_RENDER_VPL;
+    o.vpl_clamp_distance = CORNER_CLAMP;
+    vbl_film* f = NULL;
+    assert_int_equal(vbl_render(s, &o, &f), VBL_SUCCESS);
+    const double lp = corner_sum(f);
+    vbl_film_release(f);
+    o.vpl_clamp_distance = 0.0; /* the same VSLs unclamped, for the record */
+    assert_int_equal(vbl_render(s, &o, &f), VBL_SUCCESS);
+    const double lp0 = corner_sum(f);
+    vbl_film_release(f);
+    /* (c) blue noise with the eq 6 path extension */
+    const double bn = corner_mean(s, VBL_RENDER_VPL, VBL_VSL_PLACEMENT_BLUE_NOISE, CORNER_BN_PASSES, SPP, 1024, 701,
+                                  &se_bn);
+    const double e_lp = (lp - pt) / pt, e_bn = (bn - pt) / pt, se = sqrt(se_pt * se_pt + se_bn * se_bn) / pt;
+    printf("corner surface_from_surface: pt %.5g (se %.2g%%), vpl light paths clamp %.2g: %.5g (error %+.2f%%), "
+           "blue noise + path extension: %.5g (se %.2g%%, error %+.2f%%, combined se %.2f%%)\n",
+           pt, 100.0 * se_pt / pt, CORNER_CLAMP, lp, 100.0 * e_lp, bn, 100.0 * se_bn / pt, 100.0 * e_bn, 100.0 * se);
+    printf("corner, vpl light paths unclamped: %.5g (error %+.2f%%)\n", lp0, 100.0 * (lp0 - pt) / pt);
+    assert_true(fabs(e_bn) < fabs(e_lp));
+    assert_true(fabs(e_bn) < 4.0 * se);
+    vbl_scene_release(s);
+}
+
 int main(int argc, char** argv)
 {
     if (argc > 1 && !strcmp(argv[1], "slow")) {
-        const struct CMUnitTest slow[] = {cmocka_unit_test(test_against_pt)};
+        if (argc > 2) cmocka_set_test_filter(argv[2]);
+        const struct CMUnitTest slow[] = {cmocka_unit_test(test_against_pt), cmocka_unit_test(test_corner_darkening)};
         return cmocka_run_group_tests(slow, NULL, NULL);
     }
     const struct CMUnitTest tests[] = {
