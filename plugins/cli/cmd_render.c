@@ -212,21 +212,21 @@ int vbl_cmd_render(int argc, char** argv)
             fprintf(stderr, "vbl render: %s\n", err);
             return VBL_EXIT_USAGE;
         }
-        if (frame_count > 1 && !vbl_frames_has_pattern(args.output)) {
+        if (frame_count > 1 && !vbl_frame_path_has_pattern(args.output)) {
             fprintf(stderr, "vbl render: -o '%s' needs a frame pattern (#### or %%04d) to render %d frames\n",
                     args.output, frame_count);
             free(frames);
             return VBL_EXIT_USAGE;
         }
-        if (frame_count > 1 && args.preview && !vbl_frames_has_pattern(args.preview)) {
+        if (frame_count > 1 && args.preview && !vbl_frame_path_has_pattern(args.preview)) {
             fprintf(stderr, "vbl render: --preview '%s' needs a frame pattern (#### or %%04d) to render %d frames\n",
                     args.preview, frame_count);
             free(frames);
             return VBL_EXIT_USAGE;
         }
-    } else if (vbl_frames_has_pattern(args.output) || vbl_frames_has_pattern(args.preview)) {
+    } else if (vbl_frame_path_has_pattern(args.output) || vbl_frame_path_has_pattern(args.preview)) {
         fprintf(stderr, "vbl render: '%s' has a frame pattern (#### or %%d) but no --frames was given\n",
-                vbl_frames_has_pattern(args.output) ? args.output : args.preview);
+                vbl_frame_path_has_pattern(args.output) ? args.output : args.preview);
         return VBL_EXIT_USAGE;
     }
 
@@ -245,8 +245,8 @@ int vbl_cmd_render(int argc, char** argv)
         if (frame_count > 0) {
             fa.frame = frames[i];
             fa.has_frame = 1;
-            if (vbl_frames_format(args.output, fa.frame, output, sizeof output) ||
-                (args.preview && vbl_frames_format(args.preview, fa.frame, preview, sizeof preview))) {
+            if (vbl_frame_path_format(args.output, fa.frame, output, sizeof output) ||
+                (args.preview && vbl_frame_path_format(args.preview, fa.frame, preview, sizeof preview))) {
                 fprintf(stderr, "vbl render: bad frame pattern in '%s' (use #### or %%04d)\n",
                         args.preview ? args.preview : args.output);
                 code = VBL_EXIT_USAGE;

@@ -1,6 +1,5 @@
 /* Frame ranges and frame patterns for `vbl render --frames` (docs/readme/pipeline.md, "Frames").
- * The path rules mirror libvbl's scene loader (libvbl/src/scene/scene_frame.c): a run of N '#'
- * is the frame zero-padded to N digits, "%04d" / "%d" are printf-style. */
+ * Path patterns are libvbl's (vbl_frame_path_format): the same rules as the scene loader. */
 #ifndef VBL_CLI_FRAMES_H
 #define VBL_CLI_FRAMES_H
 
@@ -13,11 +12,6 @@
  * 0 with a message in err[err_size] on a bad spec. */
 int vbl_frames_parse(const char* spec, int** out, char* err, size_t err_size);
 
-/* 1 if `path` holds a frame pattern. */
-int vbl_frames_has_pattern(const char* path);
-
-/* `pattern` with every frame pattern replaced by `frame` (0 on success, -1 if it does not fit or
- * holds a '%' conversion other than d and %%). */
-int vbl_frames_format(const char* pattern, int frame, char* out, size_t size);
+/* Frame patterns in output paths: vbl_frame_path_has_pattern / vbl_frame_path_format (vbl/vbl_render.h). */
 
 #endif

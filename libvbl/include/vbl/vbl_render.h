@@ -61,6 +61,14 @@ typedef struct vbl_scene_load_options {
 VBL_API vbl_result vbl_scene_load(const char* path, vbl_scene** out_scene);
 VBL_API vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options,
                                      vbl_scene** out_scene);
+/* Frame patterns of VDB sequences and output paths: a run of N '#' is the frame zero-padded to N
+ * digits; "%04d" / "%d" are printf-style (only d conversions, optional 0-flag and width; "%%"
+ * is a literal '%'). The scene loader applies them to media[i].vdb (options.use_frame); the
+ * `vbl` command to its output paths. has_pattern: 1 if `path` holds a pattern. format: 0 on
+ * success, -1 when the result does not fit in out[size] or another '%' conversion is used. */
+VBL_API int vbl_frame_path_has_pattern(const char* path);
+VBL_API int vbl_frame_path_format(const char* pattern, int frame, char* out, size_t size);
+
 VBL_API void vbl_scene_retain(vbl_scene* scene);
 VBL_API void vbl_scene_release(vbl_scene* scene);
 

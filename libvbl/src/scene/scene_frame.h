@@ -1,8 +1,8 @@
 /* Frame numbers in scene paths (VDB sequences): "smoke.####.vdb" (a run of N '#': the frame
  * zero-padded to N digits) and printf-style "smoke.%04d.vdb" / "%d" (only d conversions with an
  * optional 0-flag and width). Used by the scene loader for media[i].vdb when
- * vbl_scene_load_options.use_frame is set; the `vbl` command uses the same rules for its output
- * paths (plugins/cli/frames.c mirrors them: the CLI links only the public API). */
+ * vbl_scene_load_options.use_frame is set; the `vbl` command uses the same public functions
+ * for its output paths. */
 #ifndef VBL_SCENE_SCENE_FRAME_H
 #define VBL_SCENE_SCENE_FRAME_H
 
@@ -12,12 +12,7 @@
 
 #include "vbl/vbl_render.h"
 
-/* 1 if `path` holds a frame pattern ("#" run or "%[0][width]d"), else 0. */
-int vbl_frame_path_has_pattern(const char* path);
-
-/* Writes `pattern` with every frame pattern replaced by `frame` into out[size]. Returns 0 on
- * success, -1 when the result does not fit or a '%' conversion other than d / %% is used. */
-int vbl_frame_path_format(const char* pattern, int frame, char* out, size_t size);
+/* vbl_frame_path_has_pattern / vbl_frame_path_format: public (vbl/vbl_render.h). */
 
 /* The scene loader's hook for media[i] (`medium` is its JSON object, `dir` the scene file's
  * directory with a trailing '/', `*vdb_override` the caller's override or NULL). When the path
