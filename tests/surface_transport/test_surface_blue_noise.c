@@ -33,6 +33,7 @@
 #include "transport/photon_trace.h"
 #include "transport/vrl.h"
 #include "transport_test_util.h"
+#include "surface_render_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
 
@@ -41,24 +42,6 @@
 #define BLOCK 3
 #define PASSES 16 /* slow test: passes and spp per pass of the virtual-light renders */
 #define SPP 8
-
-static const char* layer_names[VBL_CLASS_COUNT] = {"emission",           "surface_direct",      "volume_direct",
-                                                   "surface_from_surface", "surface_from_volume", "volume_from_surface",
-                                                   "volume_from_volume"};
-
-static void add_quad(vbl_scene* scene, vbl_vec3 c, vbl_vec3 u, vbl_vec3 v, const vbl_material* m)
-{
-    double p[12];
-    const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
-    for (int i = 0; i < 4; ++i) {
-        vbl_vec3 q = vbl_v3_add(c, vbl_v3_add(vbl_v3_scale(u, su[i]), vbl_v3_scale(v, sv[i])));
-        p[3 * i] = q.x;
-        p[3 * i + 1] = q.y;
-        p[3 * i + 2] = q.z;
-    }
-    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
-    assert_int_equal(vbl_scene_add_mesh(scene, p, 4, idx, 2, m, NULL), VBL_SUCCESS);
-}
 
 static vbl_scene* make_box(void)
 {
@@ -86,33 +69,6 @@ static vbl_film* render(const vbl_scene* s, vbl_render_method method, int placem
     vbl_film* film = NULL;
     if (vbl_render(s, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
-}
-
-static double layer_total(const vbl_film* film, const char* name)
-{
-    const float* p = vbl_film_layer_rgb(film, name);
-    double s = 0.0;
-    if (p)
-        for (int i = 0; i < 3 * W * H; ++i) s += p[i];
-    return s;
-}
-
-static void check_sum_to_beauty(const vbl_film* film)
-{
-    int ch = 0;
-    const float* beauty = vbl_film_layer(film, "", &ch);
-    assert_non_null(beauty);
-    for (int p = 0; p < W * H; ++p)
-        for (int k = 0; k < 3; ++k) {
-            double s = 0.0;
-            for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-                const float* L = vbl_film_layer_rgb(film, layer_names[l]);
-                if (L) s += L[3 * p + k];
-            }
-            double b = beauty[ch * p + k];
-            assert_true(fabs(s - b) <= 1e-4 * fmax(1.0, fabs(b)));
-        }
-    assert_true(tt_film_finite(film));
 }
 
 static int films_identical(const vbl_film* a, const vbl_film* b)

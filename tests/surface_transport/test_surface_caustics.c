@@ -40,6 +40,7 @@
 #include "transport/vpl.h"
 #include "transport/vrl.h"
 #include "transport_test_util.h"
+#include "surface_render_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
 
@@ -48,30 +49,12 @@
 #define BLOCK 4
 #define NB ((W / BLOCK) * (H / BLOCK))
 
-static const char* layer_names[VBL_CLASS_COUNT] = {"emission",           "surface_direct",      "volume_direct",
-                                                   "surface_from_surface", "surface_from_volume", "volume_from_surface",
-                                                   "volume_from_volume"};
-
 /* ---- scene ---------------------------------------------------------------------------------- */
 
 typedef struct caustic_case {
     vbl_scene* scene;
     vbl_volume* volume;
 } caustic_case;
-
-static void add_quad(vbl_scene* scene, vbl_vec3 c, vbl_vec3 u, vbl_vec3 v, const vbl_material* m)
-{
-    double p[12];
-    const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
-    for (int i = 0; i < 4; ++i) {
-        vbl_vec3 q = vbl_v3_add(c, vbl_v3_add(vbl_v3_scale(u, su[i]), vbl_v3_scale(v, sv[i])));
-        p[3 * i] = q.x;
-        p[3 * i + 1] = q.y;
-        p[3 * i + 2] = q.z;
-    }
-    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
-    assert_int_equal(vbl_scene_add_mesh(scene, p, 4, idx, 2, m, NULL), VBL_SUCCESS);
-}
 
 /* kind 0: media only; 1: floor + Lambert "mirror"; 2: floor + Phong mirror of `exponent`. */
 static caustic_case make_case(int kind, double exponent)
@@ -203,15 +186,6 @@ static vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, i
     if (vbl_render_with_estimator(scene, &o, est, &film) != VBL_SUCCESS)
         fail_msg("render: %s", vbl_last_error_message());
     return film;
-}
-
-static double layer_total(const vbl_film* film, const char* name)
-{
-    const float* p = vbl_film_layer_rgb(film, name);
-    double s = 0.0;
-    if (p)
-        for (int i = 0; i < 3 * W * H; ++i) s += p[i];
-    return s;
 }
 
 /* ---- fast ----------------------------------------------------------------------------------- */
@@ -426,24 +400,6 @@ static void test_photon_stores(void** state)
     }
     /* the mirror with caustics OFF in the trace: nothing active */
     free_case(&c);
-}
-
-static void check_sum_to_beauty(const vbl_film* film)
-{
-    int ch = 0;
-    const float* beauty = vbl_film_layer(film, "", &ch);
-    assert_non_null(beauty);
-    for (int p = 0; p < W * H; ++p)
-        for (int k = 0; k < 3; ++k) {
-            double s = 0.0;
-            for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-                const float* L = vbl_film_layer_rgb(film, layer_names[l]);
-                if (L) s += L[3 * p + k];
-            }
-            double b = beauty[ch * p + k];
-            assert_true(fabs(s - b) <= 1e-4 * fmax(1.0, fabs(b)));
-        }
-    assert_true(tt_film_finite(film));
 }
 
 /* The camera never sees the mirror (pixel centres). */

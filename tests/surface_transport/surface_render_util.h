@@ -1,0 +1,70 @@
+/* Shared helpers of the surface render tests (test_surface_render_agreement.c,
+ * test_surface_caustics.c, test_surface_blue_noise.c): layer names, a quad mesh, layer sums and
+ * the layers-sum-to-beauty check. Header-only (static); include after cmocka.h. */
+#ifndef VBL_TEST_SURFACE_RENDER_UTIL_H
+#define VBL_TEST_SURFACE_RENDER_UTIL_H
+
+#include <math.h>
+
+#include "core/math.h"
+#include "material/material.h"
+#include "scene/scene.h"
+#include "transport/estimator.h"
+#include "transport_test_util.h"
+#include "vbl/vbl.h"
+
+static const char* const layer_names[VBL_CLASS_COUNT] = {
+    "emission",           "surface_direct",      "volume_direct",     "surface_from_surface",
+    "surface_from_volume", "volume_from_surface", "volume_from_volume"};
+
+/* The quad c +- u +- v (two triangles) with material m. */
+static inline void add_quad(vbl_scene* scene, vbl_vec3 c, vbl_vec3 u, vbl_vec3 v, const vbl_material* m)
+{
+    double p[12];
+    const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
+    for (int i = 0; i < 4; ++i) {
+        vbl_vec3 q = vbl_v3_add(c, vbl_v3_add(vbl_v3_scale(u, su[i]), vbl_v3_scale(v, sv[i])));
+        p[3 * i] = q.x;
+        p[3 * i + 1] = q.y;
+        p[3 * i + 2] = q.z;
+    }
+    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    assert_int_equal(vbl_scene_add_mesh(scene, p, 4, idx, 2, m, NULL), VBL_SUCCESS);
+}
+
+/* Sum over pixels and channels of an RGB layer (0 if the film has no such layer). */
+static inline double layer_total(const vbl_film* film, const char* name)
+{
+    const float* p = vbl_film_layer_rgb(film, name);
+    const int n = vbl_film_width(film) * vbl_film_height(film);
+    double s = 0.0;
+    if (p)
+        for (int i = 0; i < 3 * n; ++i) s += p[i];
+    return s;
+}
+
+/* Every pixel's transport layers sum to its beauty (float rounding) and the film is finite;
+ * returns the sum of |beauty| over pixels and channels. */
+static inline double check_sum_to_beauty(const vbl_film* film)
+{
+    int ch = 0;
+    const float* beauty = vbl_film_layer(film, "", &ch);
+    assert_non_null(beauty);
+    const int n = vbl_film_width(film) * vbl_film_height(film);
+    double total = 0.0;
+    for (int p = 0; p < n; ++p)
+        for (int k = 0; k < 3; ++k) {
+            double s = 0.0;
+            for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+                const float* L = vbl_film_layer_rgb(film, layer_names[l]);
+                if (L) s += L[3 * p + k];
+            }
+            double b = beauty[ch * p + k];
+            assert_true(fabs(s - b) <= 1e-4 * fmax(1.0, fabs(b)));
+            total += fabs(b);
+        }
+    assert_true(tt_film_finite(film));
+    return total;
+}
+
+#endif
