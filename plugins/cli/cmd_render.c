@@ -37,6 +37,7 @@ static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene*
     if (args->beams_alpha > 0.0) options->beams_alpha = args->beams_alpha;
     if (args->vbl_single_scattering > 0) options->vbl_single_scattering = args->vbl_single_scattering;
     if (args->vsl_placement > 0) options->vsl_placement = args->vsl_placement - 1;
+    if (args->vsl_path_extension > 0) options->vsl_path_extension = args->vsl_path_extension;
     options->threads = (int)args->threads;
     if (args->pass_first >= 0) {
         options->first_pass = (int)args->pass_first;

@@ -29,6 +29,8 @@ static void vbl_render_usage(FILE* out)
             "  --vsl-placement light_paths|blue_noise\n"
             "                             vpl, vrl, vbl: surface VSLs for surface_from_surface from light paths\n"
             "                             (default) or camera-driven blue-noise placement\n"
+            "  --vsl-path-extension on|off\n"
+            "                             blue_noise: the adaptive camera path extension (default on)\n"
             "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
             "                             half-width in world units (default: from the scene and beam density)\n"
             "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"
@@ -206,6 +208,10 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
         else if (!strcmp(a, "--vsl-placement")) {
             ok = !strcmp(v, "light_paths") || !strcmp(v, "blue_noise");
             if (ok) args->vsl_placement = !strcmp(v, "blue_noise") ? 2 : 1;
+        }
+        else if (!strcmp(a, "--vsl-path-extension")) {
+            ok = !strcmp(v, "on") || !strcmp(v, "off");
+            if (ok) args->vsl_path_extension = !strcmp(v, "on") ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
         }
         else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
         else if (!strcmp(a, "--half-layers")) args->half_layers = v;

@@ -47,6 +47,7 @@ int main(void)
     OFF(vbl_render_options, beams_radius0);
     OFF(vbl_render_options, beams_alpha);
     OFF(vbl_render_options, vsl_placement);
+    OFF(vbl_render_options, vsl_path_extension);
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);

@@ -6,7 +6,9 @@
  *
  * Fast (no argument):
  *   - options: scene key render.vsl_placement (both values; a bad value names the field),
- *     validation of the struct field, blue noise with media -> VBL_ERROR_UNSUPPORTED;
+ *     validation of the struct fields; render.vsl_path_extension (true/false; a bad value names it);
+ *   - the smoky box (a smoke ball inside): blue noise renders, finite, layers sum to beauty,
+ *     thread-count independent; extension default = on, off differs;
  *   - renders with blue noise (vpl, vrl, vbl): finite, layers sum to beauty, surface_from_surface
  *     > 0, 1 and 2 threads bit-identical; light paths explicitly (0) = the default options.
  * `slow`: surface_from_surface against pt (4096 spp): image-mean error and 3x3-block rMAE of
@@ -16,7 +18,9 @@
  * store had VSLs per pass. Corner darkening: surface_from_surface over the 2x2 blocks at the
  * box's back corners, pt (8 seeds) against clamped light-path VPLs (vpl_clamp_distance 0.25) and
  * blue noise with the path extension (8 seeds): blue noise's error below the clamped VPLs' and
- * within 4 standard errors of pt. `slow NAME` runs one slow test. */
+ * within 4 standard errors of pt (blue noise without the extension printed for the record).
+ * Media: the smoky box's surface_from_surface against pt (N = 64 and 1024), far closer than the
+ * smoke-free reference is. `slow NAME` runs one slow test. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -31,6 +35,7 @@
 #include "render/render_internal.h"
 #include "render_test_util.h"
 #include "transport/photon_trace.h"
+#include "transport/vpl.h"
 #include "transport/vrl.h"
 #include "transport_test_util.h"
 #include "surface_render_util.h"
@@ -129,15 +134,37 @@ static void test_options(void** state)
     b.vsl_placement = -1;
     assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
-    /* media: not supported yet, one clear message */
-    vbl_volume* vol = tt_make_sphere(8, 0.3);
-    assert_int_equal(vbl_scene_add_medium(box, vol, 1.0, vbl_v3(0.8, 0.8, 0.8), 0.0, NULL), VBL_SUCCESS);
+    /* vsl_path_extension: 0 default, 1 on, 2 off; anything else names the field */
     b.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_UNSUPPORTED);
-    assert_non_null(strstr(vbl_last_error_message(), "render.vsl_placement = blue_noise"));
+    b.vsl_path_extension = 3;
+    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vsl_path_extension"));
+    b.vsl_path_extension = -1;
+    assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
     vbl_scene_release(box);
-    vt_free(vol);
+    /* the scene key render.vsl_path_extension: true | false */
+    rt_make_temp_dir(dir);
+    assert_int_equal(o.vsl_path_extension, VBL_VSL_PATH_EXTENSION_DEFAULT);
+    const char* values[2] = {"false", "true"};
+    const int expect[2] = {VBL_VSL_PATH_EXTENSION_OFF, VBL_VSL_PATH_EXTENSION_ON};
+    for (int i = 0; i < 2; ++i) {
+        char text[512];
+        snprintf(text, sizeof text, "{" CAMERA ", \"render\": {\"vsl_placement\": \"blue_noise\", "
+                                    "\"vsl_path_extension\": %s}}", values[i]);
+        rt_write_file(dir, "ext.json", text, path);
+        scene = NULL;
+        assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+        assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+        assert_int_equal(o.vsl_path_extension, expect[i]);
+        vbl_scene_release(scene);
+    }
+    scene = NULL;
+    rt_write_file(dir, "ext_bad.json", "{" CAMERA ", \"render\": {\"vsl_path_extension\": \"yes\"}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
+    assert_non_null(strstr(vbl_last_error_message(), "render.vsl_path_extension must be true or false"));
+    assert_null(scene);
+    rt_remove_dir(dir);
 }
 
 static void test_render_blue_noise(void** state)
@@ -169,6 +196,59 @@ static void test_render_blue_noise(void** state)
         vbl_film_release(def);
     }
     vbl_scene_release(s);
+}
+
+/* The box with a smoke ball (radius 0.7 about the centre, peak sigma_t 3: optical depth ~2.2
+ * through it) between the camera and the back wall, below the light. */
+static vbl_scene* make_smoky_box(vbl_volume** vol)
+{
+    vbl_scene* s = make_box();
+    *vol = tt_make_sphere(12, 0.7);
+    if (vbl_scene_add_medium(s, *vol, 3.0, vbl_v3(0.8, 0.8, 0.8), 0.3, NULL) != VBL_SUCCESS)
+        fail_msg("add medium: %s", vbl_last_error_message());
+    return s;
+}
+
+static vbl_film* render_ext(const vbl_scene* s, int extension, int passes, int spp, int paths, uint64_t seed,
+                            int threads)
+{
+    vbl_render_options o = tt_options(passes, spp, paths, seed);
+    o.method = VBL_RENDER_VPL;
+    o.threads = threads;
+    o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+    o.vsl_path_extension = extension;
+    vbl_film* film = NULL;
+    if (vbl_render(s, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+/* Blue noise in a scene with media: renders, finite, layers sum, thread-count independent; the
+ * extension switch: default = on, off is a different (cheaper, virtual-light-only) estimate. */
+static void test_render_blue_noise_media(void** state)
+{
+    (void)state;
+    vbl_volume* vol = NULL;
+    vbl_scene* s = make_smoky_box(&vol);
+    vbl_film* a = render_ext(s, VBL_VSL_PATH_EXTENSION_DEFAULT, 2, 1, 200, 9, 1);
+    vbl_film* b = render_ext(s, VBL_VSL_PATH_EXTENSION_DEFAULT, 2, 1, 200, 9, 2);
+    vbl_film* on = render_ext(s, VBL_VSL_PATH_EXTENSION_ON, 2, 1, 200, 9, 2);
+    vbl_film* off = render_ext(s, VBL_VSL_PATH_EXTENSION_OFF, 2, 1, 200, 9, 2);
+    assert_true(tt_film_finite(a) && tt_film_finite(off));
+    check_sum_to_beauty(a);
+    check_sum_to_beauty(off);
+    printf("smoky box blue noise: surface_from_surface %.5g (extension off %.5g), surface_from_volume %.5g, "
+           "volume_from_surface %.5g\n", layer_total(a, "surface_from_surface"), layer_total(off, "surface_from_surface"),
+           layer_total(a, "surface_from_volume"), layer_total(a, "volume_from_surface"));
+    assert_true(layer_total(a, "surface_from_surface") > 0.0 && layer_total(off, "surface_from_surface") > 0.0);
+    assert_true(films_identical(a, b));
+    assert_true(films_identical(a, on));
+    assert_false(films_identical(a, off));
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(on);
+    vbl_film_release(off);
+    vbl_scene_release(s);
+    vt_free(vol);
 }
 
 /* ---- slow ---------------------------------------------------------------------------------- */
@@ -251,6 +331,63 @@ static void test_against_pt(void** state)
     vbl_scene_release(s);
 }
 
+/* vpl with its medium VPLs and light-path surface VSLs dropped after the photon trace:
+ * surface_from_surface is unchanged (it comes from the blue-noise lights), and the per-light
+ * gathers of the other indirect classes, which dominate the cost with 1024 light paths
+ * (volume_from_surface's VSL line sampling most), are skipped. */
+static vbl_result vpl_surface_only_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vpl_settings st;
+    vbl_vpl_settings_from_options(&ctx->options, &st);
+    vbl_result r = vbl_vpl_pass_begin_with(ctx, &st, store);
+    if (!r) {
+        vbl_photon_store* p = vbl_vpl_store_photons(*store);
+        p->vpl_count = 0;
+        p->surface_vsl_count = 0;
+    }
+    return r;
+}
+
+/* Media: the blue-noise field is traced through the smoke (free flights, phase scattering) and
+ * both gather strategies carry T(x, y); surface_from_surface against pt in the smoky box. The
+ * smoke changes the reference a lot (printed), so ignoring it would fail the bounds. */
+static void test_media_against_pt(void** state)
+{
+    (void)state;
+    vbl_volume* vol = NULL;
+    vbl_scene* s = make_smoky_box(&vol);
+    vbl_scene* clear = make_box();
+    vbl_film* ref = render(s, VBL_RENDER_PT, 0, 16, 64, 0, 111, 2);
+    vbl_film* ref_clear = render(clear, VBL_RENDER_PT, 0, 4, 64, 0, 112, 2);
+    const float* R = vbl_film_layer_rgb(ref, "surface_from_surface");
+    assert_non_null(R);
+    double me_clear = 0.0, e_clear = block_rmae(vbl_film_layer_rgb(ref_clear, "surface_from_surface"), R, &me_clear);
+    printf("smoky box pt surface_from_surface %.5g, without the smoke %.5g (block rMAE between them %.3f)\n",
+           layer_total(ref, "surface_from_surface"), layer_total(ref_clear, "surface_from_surface"), e_clear);
+    const int lights[2] = {64, 1024};
+    double rmae[2], merr[2];
+    for (int i = 0; i < 2; ++i) {
+        vbl_render_options o = tt_options(PASSES, SPP, lights[i], 212 + (uint64_t)i);
+        o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+        vbl_estimator est = vbl_estimator_vpl;
+        est.pass_begin = vpl_surface_only_begin;
+        vbl_film* f = NULL;
+        assert_int_equal(vbl_render_with_estimator(s, &o, &est, &f), VBL_SUCCESS);
+        assert_true(tt_film_finite(f));
+        rmae[i] = block_rmae(vbl_film_layer_rgb(f, "surface_from_surface"), R, &merr[i]);
+        printf("smoky box blue noise N = %4d: image-mean error %.4f, block rMAE %.4f\n", lights[i], merr[i], rmae[i]);
+        vbl_film_release(f);
+    }
+    assert_true(rmae[1] < rmae[0]);
+    assert_true(merr[1] < 0.03 && rmae[1] < 0.12);
+    assert_true(rmae[1] < 0.5 * e_clear);
+    vbl_film_release(ref);
+    vbl_film_release(ref_clear);
+    vbl_scene_release(s);
+    vbl_scene_release(clear);
+    vt_free(vol);
+}
+
 /* Corner darkening (issue 8): surface_from_surface summed over the 2x2 pixel blocks at the four
  * back corners of the box, where the back wall meets a side wall and the floor or ceiling. With
  * the camera at (0, -3.2, 0), vertical fov 40 deg and 24x18 pixels, the corner (+-1, 1, +-1) at
@@ -312,6 +449,10 @@ static void test_corner_darkening(void** state)
     const double bn = corner_mean(s, VBL_RENDER_VPL, VBL_VSL_PLACEMENT_BLUE_NOISE, CORNER_BN_PASSES, SPP, 1024, 701,
                                   &se_bn);
     const double e_lp = (lp - pt) / pt, e_bn = (bn - pt) / pt, se = sqrt(se_pt * se_pt + se_bn * se_bn) / pt;
+    f = render_ext(s, VBL_VSL_PATH_EXTENSION_OFF, CORNER_BN_PASSES, SPP, 1024, 701, 2); /* for the record */
+    const double bn_off = corner_sum(f);
+    vbl_film_release(f);
+    printf("corner, blue noise without the path extension: %.5g (error %+.2f%%)\n", bn_off, 100.0 * (bn_off - pt) / pt);
     printf("corner surface_from_surface: pt %.5g (se %.2g%%), vpl light paths clamp %.2g: %.5g (error %+.2f%%), "
            "blue noise + path extension: %.5g (se %.2g%%, error %+.2f%%, combined se %.2f%%)\n",
            pt, 100.0 * se_pt / pt, CORNER_CLAMP, lp, 100.0 * e_lp, bn, 100.0 * se_bn / pt, 100.0 * e_bn, 100.0 * se);
@@ -325,12 +466,14 @@ int main(int argc, char** argv)
 {
     if (argc > 1 && !strcmp(argv[1], "slow")) {
         if (argc > 2) cmocka_set_test_filter(argv[2]);
-        const struct CMUnitTest slow[] = {cmocka_unit_test(test_against_pt), cmocka_unit_test(test_corner_darkening)};
+        const struct CMUnitTest slow[] = {cmocka_unit_test(test_against_pt), cmocka_unit_test(test_media_against_pt),
+                                          cmocka_unit_test(test_corner_darkening)};
         return cmocka_run_group_tests(slow, NULL, NULL);
     }
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_options),
         cmocka_unit_test(test_render_blue_noise),
+        cmocka_unit_test(test_render_blue_noise_media),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

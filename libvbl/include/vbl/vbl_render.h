@@ -153,7 +153,15 @@ typedef struct vbl_render_options {
     /* ---- surface VSL placement for surface_from_surface of vpl/vrl/vbl (scene file:
      * render.vsl_placement; docs/readme/blue_noise.md) */
     int vsl_placement; /* VBL_VSL_PLACEMENT_LIGHT_PATHS (0, default) or VBL_VSL_PLACEMENT_BLUE_NOISE (1) */
+    /* blue_noise only (scene file: render.vsl_path_extension): the adaptive camera path extension
+     * of virtual-blue-noise-lighting.txt eqs 6-9. VBL_VSL_PATH_EXTENSION_DEFAULT (0) = ON (1);
+     * OFF (2): virtual lights only (w_v = 1, no extension; biased near the lights, cheaper). */
+    int vsl_path_extension;
 } vbl_render_options;
+
+#define VBL_VSL_PATH_EXTENSION_DEFAULT 0
+#define VBL_VSL_PATH_EXTENSION_ON 1
+#define VBL_VSL_PATH_EXTENSION_OFF 2
 
 #define VBL_VSL_PLACEMENT_LIGHT_PATHS 0
 #define VBL_VSL_PLACEMENT_BLUE_NOISE 1
@@ -161,7 +169,7 @@ typedef struct vbl_render_options {
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0, 0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -58,7 +58,8 @@ void vbl_bn_gather(const vbl_bn_light_set* set, const vbl_bn_emission* e, const 
                                                              vbl_bn_density_at(set, y, NULL), n_min, n_max);
                     double mis = vbl_bn_power_heuristic(p_j, pdf_b);
                     vbl_vec3 f = vbl_material_eval(m, n, sp->wo, w);
-                    out->L_light = vbl_v3_scale(vbl_v3_mul(f, I), cos_x * w_v * mis / p_j);
+                    double T = sp->transmittance ? sp->transmittance(sp->transmittance_ctx, spawn(sp, w), y) : 1.0;
+                    out->L_light = vbl_v3_scale(vbl_v3_mul(f, I), T * cos_x * w_v * mis / p_j);
                 }
             }
         }
@@ -88,7 +89,8 @@ void vbl_bn_gather(const vbl_bn_light_set* set, const vbl_bn_emission* e, const 
                 if (count > 0 && out->w_v > 0.0) {
                     bsdf_ctx c = {set, e, x, w, pdf_b, vbl_v3(0, 0, 0)};
                     vbl_bn_lights_containing(set, y, bsdf_visit, &c);
-                    out->L_bsdf = vbl_v3_scale(vbl_v3_mul(f, c.sum), cos_x * out->w_v / pdf_b);
+                    double T = sp->transmittance ? sp->transmittance(sp->transmittance_ctx, spawn(sp, w), y) : 1.0;
+                    out->L_bsdf = vbl_v3_scale(vbl_v3_mul(f, c.sum), T * cos_x * out->w_v / pdf_b);
                 }
             }
         }

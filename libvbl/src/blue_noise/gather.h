@@ -31,6 +31,10 @@ typedef struct vbl_bn_shading {
     vbl_vec3 wo;               /* unit, towards the viewer */
     const vbl_material* material;
     double ray_epsilon;        /* offset of spawned rays along the geometric normal */
+    /* Scenes with media: an estimate of the transmittance from `from` to `to` (the segment is
+     * known to be unoccluded); NULL: 1. Multiplies both strategies' photon-light terms. */
+    double (*transmittance)(void* ctx, vbl_vec3 from, vbl_vec3 to);
+    void* transmittance_ctx;
 } vbl_bn_shading;
 
 typedef struct vbl_bn_gather_result {

@@ -6,7 +6,9 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "scene/media.h"
 #include "transport/light_emission.h"
+#include "volume/transmittance.h"
 
 typedef struct path_hits {
     vbl_bn_photon_hit* hits;
@@ -61,9 +63,37 @@ static void trace_path(const shared* sh, size_t index, path_hits* out)
     if (!(phi0 > 0.0) || !isfinite(phi0)) return;
     out->emitted = phi;
     vbl_vec3 x = es.origin, d = es.direction;
+    const vbl_extinction* ext = sh->o->extinction;
+    const int media = ext && ext->count > 0;
+    vbl_extinction_cursor cursor;
+    if (media) vbl_extinction_cursor_init(&cursor, ext);
+    double comps[VBL_MAX_MEDIA] = {0};
     for (int k = 0;; ++k) {
         vbl_surface_hit hit;
-        if (!vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit)) return;
+        const int on_surface = vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit);
+        double t0 = 0.0, t1 = 0.0, t = 0.0, sigma_t = 0.0;
+        if (media && vbl_extinction_ray_bounds(ext, x, d, 0.0, on_surface ? hit.t : INFINITY, &t0, &t1) && t1 > t0 &&
+            vbl_free_flight_sample(ext, &cursor, x, d, t0, t1, sh->o->use_global_majorant, &rng, &t, &sigma_t,
+                                   comps)) {
+            /* a medium scattering event k: not split; the next hit has k + 1 earlier events */
+            if (!(sigma_t > 0.0) || (sh->o->max_bounce >= 0 && k >= sh->o->max_bounce)) return;
+            double u0 = vbl_rng_uniform(&rng), u1 = vbl_rng_uniform(&rng), u2 = vbl_rng_uniform(&rng);
+            vbl_vec3 wi;
+            double pdf = 0.0;
+            if (!vbl_media_sample_phase(scene, comps, d, u0, u1, u2, &wi, &pdf) || !(pdf > 0.0)) return;
+            vbl_vec3 kernel = vbl_media_scatter_kernel(scene, comps, vbl_v3_dot(d, wi));
+            phi = vbl_v3_scale(vbl_v3_mul(phi, kernel), 1.0 / (pdf * sigma_t));
+            if (!(vbl_v3_max_component(phi) > 0.0)) return;
+            if (k >= 1) {
+                double q = fmin(1.0, vbl_v3_max_component(phi) / phi0);
+                if (vbl_rng_uniform(&rng) >= q) return;
+                phi = vbl_v3_scale(phi, 1.0 / q);
+            }
+            x = vbl_v3_madd(x, d, t);
+            d = wi;
+            continue;
+        }
+        if (!on_surface) return;
         vbl_vec3 wi = vbl_v3_scale(d, -1.0);
         if (sh->o->max_bounce < 0 || k <= sh->o->max_bounce) {
             vbl_bn_photon_hit h = {hit.position, hit.shading_normal, wi, phi};

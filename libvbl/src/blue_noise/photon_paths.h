@@ -9,7 +9,12 @@
  * one) is <= max_bounce, then continues by BRDF sampling, Phi *= f cos / pdf, with Russian
  * roulette from the third hit on (q = min(1, max Phi / max Phi_0), survivors divided by q: no
  * cut-off bias); max_bounce >= 0 also ends the walk after the last recorded hit.
- * Media are ignored (surfaces only). Paths are traced in parallel per chunk, each path's hits kept
+ * With options.extinction (scenes with media) every segment is first tracked through the media
+ * (delta tracking, vbl_free_flight_sample): a collision is a scattering event that counts as a
+ * bounce (k) but is not split; the photon scatters by the media's phase function, Phi *= sigma_s
+ * p / (pdf sigma_t), with the same Russian roulette; so a split hit's power carries the
+ * transmittance of every segment before it, and light scattered by the media onto a surface is
+ * in the field too. Without it (NULL) media are ignored. Paths are traced in parallel per chunk, each path's hits kept
  * in path order, then split sequentially: the field does not depend on the thread count. No
  * photon outlives its chunk. */
 #ifndef VBL_BLUE_NOISE_PHOTON_PATHS_H
@@ -20,6 +25,7 @@
 
 #include "blue_noise/photon_splitting.h"
 #include "scene/scene.h"
+#include "volume/extinction.h"
 
 #define VBL_BN_PHOTON_STREAM 0x424E5048ull /* "BNPH" */
 
@@ -29,9 +35,11 @@ typedef struct vbl_bn_photon_options {
     size_t paths;     /* light paths */
     int max_bounce;   /* hits with more earlier surface hits are not split; -1: unlimited */
     size_t chunk;     /* paths traced in parallel before their hits are split */
+    const vbl_extinction* extinction; /* the scene's media, NULL: ignore media */
+    int use_global_majorant;          /* free flights with the global majorant (no majorant grid) */
 } vbl_bn_photon_options;
 
-#define VBL_BN_PHOTON_DEFAULT {sizeof(vbl_bn_photon_options), 1, 1000000, -1, 16384}
+#define VBL_BN_PHOTON_DEFAULT {sizeof(vbl_bn_photon_options), 1, 1000000, -1, 16384, NULL, 0}
 
 typedef struct vbl_bn_photon_stats {
     size_t paths;

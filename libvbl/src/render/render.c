@@ -78,6 +78,10 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
     if (o->vsl_placement != VBL_VSL_PLACEMENT_LIGHT_PATHS && o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
                          "vbl_render: vsl_placement = %d must be 0 (light_paths) or 1 (blue_noise)", o->vsl_placement);
+    if (o->vsl_path_extension < 0 || o->vsl_path_extension > VBL_VSL_PATH_EXTENSION_OFF)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_render: vsl_path_extension = %d must be 0 (default), 1 (on) or 2 (off)",
+                         o->vsl_path_extension);
     return VBL_SUCCESS;
 }
 

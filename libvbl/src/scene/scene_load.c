@@ -414,7 +414,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
                                        "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams",
-                                       "vsl_placement", NULL};
+                                       "vsl_placement", "vsl_path_extension", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -466,6 +466,12 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
             o->vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
         else
             return vbl_json_fail(ctx, "render.vsl_placement = \"%s\" is not one of light_paths, blue_noise", s);
+    }
+    /* render.vsl_path_extension: true (default) | false */
+    const cJSON* ext = cJSON_GetObjectItemCaseSensitive(obj, "vsl_path_extension");
+    if (ext) {
+        if (!cJSON_IsBool(ext)) return vbl_json_fail(ctx, "render.vsl_path_extension must be true or false");
+        o->vsl_path_extension = cJSON_IsTrue(ext) ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
     }
     return vbl_parse_estimator_settings(ctx, obj, o);
 }

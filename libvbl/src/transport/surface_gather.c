@@ -170,7 +170,7 @@ static vbl_vec3 vbl_surface_nee(const vbl_render_context* ctx, vbl_thread_state*
     return sum;
 }
 
-/* vbl_bn_trace_fn over the scene's surfaces (no media: vbl_surface_gather_blue_noise_begin). */
+/* vbl_bn_trace_fn over the scene's surfaces. */
 static int vbl_bn_trace_surfaces(void* user, vbl_vec3 origin, vbl_vec3 dir, vbl_vec3* position, vbl_vec3* normal)
 {
     const vbl_surfaces* s = user;
@@ -181,10 +181,27 @@ static int vbl_bn_trace_surfaces(void* user, vbl_vec3 origin, vbl_vec3 dir, vbl_
     return 1;
 }
 
-/* surface_from_surface at x from the blue-noise lights (vbl_bn_gather, eqs 3-9) plus the eq 6
- * path extension: a pt path from x along the gather's BSDF sample, times f cos / pdf (1 - w_v);
- * its light reflected at least once after x (everything but its emission class, which is the
- * direct light surface_direct already has) with max_bounces one less. */
+/* vbl_bn_shading.transmittance: one estimate of T on the unoccluded segment a -> b (gather_cb). */
+static double vbl_bn_segment_transmittance(void* user, vbl_vec3 a, vbl_vec3 b)
+{
+    const gather_cb* c = user;
+    const vbl_extinction* ext = c->ctx->extinction;
+    vbl_vec3 to = vbl_v3_sub(b, a);
+    double w = vbl_v3_length(to), t0, t1;
+    if (!(w > 0.0)) return 1.0;
+    vbl_vec3 d = vbl_v3_scale(to, 1.0 / w);
+    if (ext->count == 0 || !vbl_extinction_ray_bounds(ext, a, d, 0.0, w, &t0, &t1) || !(t1 > t0)) return 1.0;
+    return vbl_transmittance_estimate(ext, &c->ts->cursor, a, d, t0, t1, &c->ctx->tracking, c->rng);
+}
+
+/* surface_from_surface at x from the blue-noise lights (vbl_bn_gather, eqs 3-9; with media, both
+ * strategies carry an estimate of T(x, y)) plus the eq 6 path extension: a pt path from x along
+ * the gather's BSDF sample, times f cos / pdf (1 - w_v). Of that path only the light its first
+ * vertex y reflects counts, when y is a surface: the sub-path's surface_direct, _from_surface and
+ * _from_volume classes (pt's free flight to y carries T(x, y)); its emission class is direct
+ * light that surface_direct already has, its volume classes (a medium vertex between x and y)
+ * are x's surface_from_volume, which the VRLs/VPLs estimate. max_bounces one less. Extension off
+ * (render.vsl_path_extension = false): w_v = 1 wherever a light covers y, no extension. */
 static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
                                             const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
                                             const vbl_surface_hit* hit, vbl_vec3 wo, vbl_rng* rng)
@@ -194,16 +211,19 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
     if (!gs->blue_noise || (M >= 0 && M < 2)) return sum;
     const vbl_bn_prepared* bn = gs->blue_noise;
+    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
     vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
                          &scene->materials[hit->material],
-                         vbl_surfaces_ray_epsilon(scene->surfaces, hit->position)};
+                         vbl_surfaces_ray_epsilon(scene->surfaces, hit->position),
+                         ctx->extinction->count > 0 ? vbl_bn_segment_transmittance : NULL, &cb};
     double u[6];
     for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
+    const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
     vbl_bn_gather_result res;
     vbl_bn_gather(&bn->set, &bn->emission, &sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
-                  VBL_BN_N_MIN_DEFAULT, VBL_BN_N_MAX_DEFAULT, &res);
+                  extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
     sum = res.L;
-    if (!res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
+    if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
     vbl_render_context sub = *ctx;
     if (M >= 0) sub.options.max_bounces = M - 1;
     vbl_camera_sample cs = *sample;
@@ -213,9 +233,8 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     vbl_sample_value v;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) v.L[c] = vbl_v3(0.0, 0.0, 0.0);
     vbl_pt_camera_sample(&sub, NULL, ts, &cs, rng, &v);
-    vbl_vec3 L = vbl_v3(0.0, 0.0, 0.0);
-    for (int c = 0; c < VBL_CLASS_COUNT; ++c)
-        if (c != VBL_CLASS_EMISSION) L = vbl_v3_add(L, v.L[c]);
+    vbl_vec3 L = vbl_v3_add(vbl_v3_add(v.L[VBL_CLASS_SURFACE_DIRECT], v.L[VBL_CLASS_SURFACE_FROM_SURFACE]),
+                            v.L[VBL_CLASS_SURFACE_FROM_VOLUME]);
     return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
 }
 
@@ -226,10 +245,6 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
     gs->blue_noise = NULL;
     gs->blue_noise_mode = 0;
     if (o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE || !scene->surfaces) return VBL_SUCCESS;
-    if (scene->media_count > 0)
-        return vbl_error(VBL_ERROR_UNSUPPORTED,
-                         "%s: render.vsl_placement = blue_noise is not supported in scenes with media yet "
-                         "(use light_paths)", scene->path);
     gs->blue_noise_mode = 1;
     const int M = o->max_bounces;
     if (o->light_paths <= 0 || (M >= 0 && M < 2)) return VBL_SUCCESS; /* no surface_from_surface */
@@ -246,6 +261,8 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
     po.photons.seed = seeds[1];
     po.photons.paths = 10 * (size_t)o->light_paths;
     po.photons.max_bounce = M >= 0 ? M - 2 : -1;
+    po.photons.extinction = ctx->extinction;
+    po.photons.use_global_majorant = ctx->tracking.use_global_majorant;
     vbl_bn_prepared* bn = calloc(1, sizeof *bn);
     if (!bn) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (blue-noise lights)", scene->path);
     vbl_result r = vbl_bn_prepare(scene, &po, bn);

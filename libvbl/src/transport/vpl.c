@@ -54,6 +54,11 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
     return VBL_SUCCESS;
 }
 
+vbl_photon_store* vbl_vpl_store_photons(void* store)
+{
+    return store ? &((vbl_vpl_store*)store)->photons : NULL;
+}
+
 void vbl_vpl_settings_from_options(const vbl_render_options* o, vbl_vpl_settings* out)
 {
     vbl_vpl_settings d = VBL_VPL_SETTINGS_DEFAULT;

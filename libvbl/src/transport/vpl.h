@@ -37,5 +37,8 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
 void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
 void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store);
+/* The photon store of a pass's vpl store (benchmarks swap in other VPL sets; the store frees
+ * whatever vpls array it holds at pass end with free()). */
+struct vbl_photon_store* vbl_vpl_store_photons(void* store);
 
 #endif

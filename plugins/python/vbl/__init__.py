@@ -168,7 +168,8 @@ class _RenderOptions(ctypes.Structure):
                 ("vbl_single_scattering", ctypes.c_int),
                 ("beams_radius0", ctypes.c_double),
                 ("beams_alpha", ctypes.c_double),
-                ("vsl_placement", ctypes.c_int)]
+                ("vsl_placement", ctypes.c_int),
+                ("vsl_path_extension", ctypes.c_int)]
 
 
 class _FilmStats(ctypes.Structure):
