@@ -38,6 +38,7 @@ static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene*
     if (args->vbl_single_scattering > 0) options->vbl_single_scattering = args->vbl_single_scattering;
     if (args->vsl_placement > 0) options->vsl_placement = args->vsl_placement - 1;
     if (args->vsl_path_extension > 0) options->vsl_path_extension = args->vsl_path_extension;
+    if (args->vsl_lights > 0) options->vsl_lights = args->vsl_lights;
     options->threads = (int)args->threads;
     if (args->pass_first >= 0) {
         options->first_pass = (int)args->pass_first;

@@ -26,6 +26,7 @@ typedef struct vbl_render_args {
     int vbl_single_scattering;                                  /* --vbl-single-scattering: 0 not given, 1, 2 */
     int vsl_placement;          /* --vsl-placement: 0 not given, 1 light_paths, 2 blue_noise */
     int vsl_path_extension;     /* --vsl-path-extension: 0 not given, else VBL_VSL_PATH_EXTENSION_ON/_OFF */
+    int vsl_lights;             /* --vsl-lights: 0 not given */
     int quiet;
     /* EXR storage */
     int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */

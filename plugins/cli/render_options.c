@@ -31,6 +31,7 @@ static void vbl_render_usage(FILE* out)
             "                             (default) or camera-driven blue-noise placement\n"
             "  --vsl-path-extension on|off\n"
             "                             blue_noise: the adaptive camera path extension (default on)\n"
+            "  --vsl-lights N             blue_noise: virtual lights per pass (default 16384)\n"
             "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
             "                             half-width in world units (default: from the scene and beam density)\n"
             "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"
@@ -208,6 +209,11 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
         else if (!strcmp(a, "--vsl-placement")) {
             ok = !strcmp(v, "light_paths") || !strcmp(v, "blue_noise");
             if (ok) args->vsl_placement = !strcmp(v, "blue_noise") ? 2 : 1;
+        }
+        else if (!strcmp(a, "--vsl-lights")) {
+            long n = 0;
+            ok = vbl_parse_long(v, 1, 10000000, &n);
+            if (ok) args->vsl_lights = (int)n;
         }
         else if (!strcmp(a, "--vsl-path-extension")) {
             ok = !strcmp(v, "on") || !strcmp(v, "off");

@@ -102,7 +102,7 @@ static void test_gather_matches_reference(void** state)
     vbl_bn_light_set s;
     assert_int_equal(vbl_bn_light_set_init(&s, l, nl, e.power, 2.0), VBL_SUCCESS);
 
-    vbl_bn_shading sp = {{0.1, 0.2, 0.0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 0}, &mats[1], 1e-9, NULL, NULL};
+    vbl_bn_shading sp = {{0.1, 0.2, 0.0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 0}, &mats[1], 1e-9, NULL, NULL, NULL, NULL, 0.0};
     sp.wo = vbl_v3_normalize(vbl_v3(0.2, -1.0, 0.7));
     const double n_min = VBL_BN_N_MIN_DEFAULT, n_max = VBL_BN_N_MAX_DEFAULT;
 

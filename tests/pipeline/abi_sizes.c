@@ -48,6 +48,7 @@ int main(void)
     OFF(vbl_render_options, beams_alpha);
     OFF(vbl_render_options, vsl_placement);
     OFF(vbl_render_options, vsl_path_extension);
+    OFF(vbl_render_options, vsl_lights);
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);

@@ -157,7 +157,13 @@ typedef struct vbl_render_options {
      * of virtual-blue-noise-lighting.txt eqs 6-9. VBL_VSL_PATH_EXTENSION_DEFAULT (0) = ON (1);
      * OFF (2): virtual lights only (w_v = 1, no extension; biased near the lights, cheaper). */
     int vsl_path_extension;
+    /* blue_noise only (render.vsl_lights): N virtual lights per pass, from 10 N camera
+     * candidates, lit by 10 N light paths split among them; 0: VBL_VSL_LIGHTS_DEFAULT. The
+     * light-path stores of the volume classes keep using light_paths. */
+    int vsl_lights;
 } vbl_render_options;
+
+#define VBL_VSL_LIGHTS_DEFAULT 16384
 
 #define VBL_VSL_PATH_EXTENSION_DEFAULT 0
 #define VBL_VSL_PATH_EXTENSION_ON 1
@@ -169,7 +175,7 @@ typedef struct vbl_render_options {
 #define VBL_RENDER_OPTIONS_DEFAULT                                                              \
     {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
      VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0, 0}
+     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0, 0, 0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

@@ -26,15 +26,25 @@ typedef int (*vbl_bn_trace_fn)(void* ctx, vbl_vec3 origin, vbl_vec3 dir, vbl_vec
 
 typedef struct vbl_bn_shading {
     vbl_vec3 position;         /* x */
-    vbl_vec3 normal;           /* unit shading normal on the viewer's side */
-    vbl_vec3 geometric_normal; /* unit, same side */
+    vbl_vec3 normal;           /* unit shading normal on the viewer's side (surfaces) */
+    vbl_vec3 geometric_normal; /* unit, same side (surfaces) */
     vbl_vec3 wo;               /* unit, towards the viewer */
+    /* NULL: x is a point in a medium (libvbl's extension beyond the paper, docs/readme/blue_noise.md):
+     * the BSDF becomes the phase function, f cos -> medium_f(cos theta) (no cosine, any
+     * direction), sampled by HG(phase_g); rays start at x itself. */
     const vbl_material* material;
     double ray_epsilon;        /* offset of spawned rays along the geometric normal */
     /* Scenes with media: an estimate of the transmittance from `from` to `to` (the segment is
      * known to be unoccluded); NULL: 1. Multiplies both strategies' photon-light terms. */
     double (*transmittance)(void* ctx, vbl_vec3 from, vbl_vec3 to);
     void* transmittance_ctx;
+    /* medium points (material NULL): the scattering value, RGB (e.g. sigma_s p(cos theta) /
+     * sigma_t at a delta-tracking collision) for light arriving from direction w (towards its
+     * source) and leaving towards wo, cos theta = dot(-w, wo) (the light's travel directions);
+     * and the HG g of the sampling lobe (any |g| < 1 is unbiased). */
+    vbl_vec3 (*medium_f)(void* ctx, double cos_theta);
+    void* medium_ctx;
+    double phase_g;
 } vbl_bn_shading;
 
 typedef struct vbl_bn_gather_result {

@@ -82,6 +82,9 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
                          "vbl_render: vsl_path_extension = %d must be 0 (default), 1 (on) or 2 (off)",
                          o->vsl_path_extension);
+    if (o->vsl_lights < 0 || o->vsl_lights > 10000000)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vsl_lights = %d is outside [0, 1e7] (0: default %d)",
+                         o->vsl_lights, VBL_VSL_LIGHTS_DEFAULT);
     return VBL_SUCCESS;
 }
 

@@ -414,7 +414,7 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
 {
     static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
                                        "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams",
-                                       "vsl_placement", "vsl_path_extension", NULL};
+                                       "vsl_placement", "vsl_path_extension", "vsl_lights", NULL};
     const cJSON* obj = NULL;
     vbl_result r;
     if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
@@ -473,6 +473,9 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
         if (!cJSON_IsBool(ext)) return vbl_json_fail(ctx, "render.vsl_path_extension must be true or false");
         o->vsl_path_extension = cJSON_IsTrue(ext) ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
     }
+    v = o->vsl_lights;
+    if ((r = vbl_json_int(ctx, obj, "render", "vsl_lights", 0, 1, 1e7, &v))) return r;
+    o->vsl_lights = (int)v;
     return vbl_parse_estimator_settings(ctx, obj, o);
 }
 

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
+#include "scene/media.h"
 #include "transport/surface_caustics.h"
 #include "transport/surface_cone_kernel.h"
 #include "transport/surface_from_volume.h"
@@ -194,6 +195,27 @@ static double vbl_bn_segment_transmittance(void* user, vbl_vec3 a, vbl_vec3 b)
     return vbl_transmittance_estimate(ext, &c->ts->cursor, a, d, t0, t1, &c->ctx->tracking, c->rng);
 }
 
+/* Eq 6's L_p: the light reflected towards `origin` by the first vertex y along `dir` when y is a
+ * surface, from a pt path (max_bounces one less): the sub-path's surface_direct, _from_surface
+ * and _from_volume classes (pt's free flight to y carries T(x, y)); its emission class is direct
+ * light, its volume classes (a medium vertex before y) belong to other classes at x. */
+static vbl_vec3 vbl_bn_path_extension(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                      const vbl_camera_sample* sample, vbl_vec3 origin, vbl_vec3 dir, vbl_rng* rng)
+{
+    const int M = ctx->options.max_bounces;
+    vbl_render_context sub = *ctx;
+    if (M >= 0) sub.options.max_bounces = M - 1;
+    vbl_camera_sample cs = *sample;
+    cs.origin = origin;
+    cs.direction = dir;
+    cs.t_max = INFINITY;
+    vbl_sample_value v;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) v.L[c] = vbl_v3(0.0, 0.0, 0.0);
+    vbl_pt_camera_sample(&sub, NULL, ts, &cs, rng, &v);
+    return vbl_v3_add(vbl_v3_add(v.L[VBL_CLASS_SURFACE_DIRECT], v.L[VBL_CLASS_SURFACE_FROM_SURFACE]),
+                      v.L[VBL_CLASS_SURFACE_FROM_VOLUME]);
+}
+
 /* surface_from_surface at x from the blue-noise lights (vbl_bn_gather, eqs 3-9; with media, both
  * strategies carry an estimate of T(x, y)) plus the eq 6 path extension: a pt path from x along
  * the gather's BSDF sample, times f cos / pdf (1 - w_v). Of that path only the light its first
@@ -215,7 +237,7 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
                          &scene->materials[hit->material],
                          vbl_surfaces_ray_epsilon(scene->surfaces, hit->position),
-                         ctx->extinction->count > 0 ? vbl_bn_segment_transmittance : NULL, &cb};
+                         ctx->extinction->count > 0 ? vbl_bn_segment_transmittance : NULL, &cb, NULL, NULL, 0.0};
     double u[6];
     for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
     const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
@@ -224,18 +246,60 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
                   extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
     sum = res.L;
     if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
-    vbl_render_context sub = *ctx;
-    if (M >= 0) sub.options.max_bounces = M - 1;
-    vbl_camera_sample cs = *sample;
-    cs.origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, res.bsdf_dir);
-    cs.direction = res.bsdf_dir;
-    cs.t_max = INFINITY;
-    vbl_sample_value v;
-    for (int c = 0; c < VBL_CLASS_COUNT; ++c) v.L[c] = vbl_v3(0.0, 0.0, 0.0);
-    vbl_pt_camera_sample(&sub, NULL, ts, &cs, rng, &v);
-    vbl_vec3 L = vbl_v3_add(vbl_v3_add(v.L[VBL_CLASS_SURFACE_DIRECT], v.L[VBL_CLASS_SURFACE_FROM_SURFACE]),
-                            v.L[VBL_CLASS_SURFACE_FROM_VOLUME]);
+    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, res.bsdf_dir);
+    vbl_vec3 L = vbl_bn_path_extension(ctx, ts, sample, origin, res.bsdf_dir, rng);
     return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
+}
+
+/* vbl_bn_shading.medium_f at a delta-tracking collision: sigma_s p(cos) / sigma_t, RGB. */
+typedef struct bn_medium_point {
+    const vbl_scene* scene;
+    const double* comps;
+    double sigma_t;
+} bn_medium_point;
+
+static vbl_vec3 vbl_bn_medium_f(void* user, double cos_theta)
+{
+    const bn_medium_point* m = user;
+    return vbl_v3_scale(vbl_media_scatter_kernel(m->scene, m->comps, cos_theta), 1.0 / m->sigma_t);
+}
+
+/* volume_from_surface over the camera segment [u0, u1] from the blue-noise lights (libvbl's
+ * extension of the paper to media, docs/readme/blue_noise.md): one delta-tracking collision x
+ * on the segment (density sigma_t T, so int T sigma_s L_s du is estimated by sigma_s / sigma_t
+ * L_s(x) at x, 0 without a collision), then at x the same light + phase sampling with MIS and
+ * w_v as at surfaces (vbl_bn_gather with the phase function for the BSDF) and, with the
+ * extension, a pt path along the phase sample weighted by f / pdf (1 - w_v) (its surface
+ * classes: the light that reaches x from the surface point y). */
+static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                           const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
+                                           double u0, double u1, vbl_rng* rng)
+{
+    const vbl_scene* scene = ctx->scene;
+    const int M = ctx->options.max_bounces;
+    vbl_vec3 zero = vbl_v3(0.0, 0.0, 0.0);
+    if (!gs->blue_noise || (M >= 0 && M < 2) || !(u1 > u0)) return zero;
+    const vbl_bn_prepared* bn = gs->blue_noise;
+    double comps[VBL_MAX_MEDIA] = {0}, t = 0.0, sigma_t = 0.0;
+    if (!vbl_free_flight_sample(ctx->extinction, &ts->cursor, sample->origin, sample->direction, u0, u1,
+                                ctx->tracking.use_global_majorant, rng, &t, &sigma_t, comps) ||
+        !(sigma_t > 0.0))
+        return zero;
+    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
+    bn_medium_point mp = {scene, comps, sigma_t};
+    const vbl_vec3 x = vbl_v3_madd(sample->origin, sample->direction, t);
+    vbl_bn_shading sp = {x, vbl_v3(0, 0, 1), vbl_v3(0, 0, 1), vbl_v3_scale(sample->direction, -1.0), NULL, 0.0,
+                         vbl_bn_segment_transmittance, &cb, vbl_bn_medium_f, &mp, gs->g_camera};
+    double u[6];
+    for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
+    const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
+    vbl_bn_gather_result res;
+    vbl_bn_gather(&bn->set, &bn->emission, &sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
+                  extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
+    vbl_vec3 sum = res.L;
+    if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
+    vbl_vec3 L = vbl_bn_path_extension(ctx, ts, sample, x, res.bsdf_dir, rng);
+    return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), (1.0 - res.w_v) / res.bsdf_pdf);
 }
 
 vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs)
@@ -246,8 +310,10 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
     gs->blue_noise_mode = 0;
     if (o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE || !scene->surfaces) return VBL_SUCCESS;
     gs->blue_noise_mode = 1;
+    gs->blue_noise_volume = scene->media_count > 0; /* volume_from_surface too (measured, blue_noise.md) */
     const int M = o->max_bounces;
-    if (o->light_paths <= 0 || (M >= 0 && M < 2)) return VBL_SUCCESS; /* no surface_from_surface */
+    if (M >= 0 && M < 2) return VBL_SUCCESS; /* no surface_from_surface */
+    const size_t N = (size_t)(o->vsl_lights > 0 ? o->vsl_lights : VBL_VSL_LIGHTS_DEFAULT);
     vbl_rng rng = vbl_rng_make(o->seed ^ VBL_RNG_DOMAIN_BLUE_NOISE, ctx->pass, 0);
     uint64_t seeds[2];
     for (int i = 0; i < 2; ++i) {
@@ -255,11 +321,11 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
         seeds[i] = (hi << 32) | vbl_rng_next_u32(&rng);
     }
     vbl_bn_prepare_options po = VBL_BN_PREPARE_DEFAULT;
-    po.lights = (size_t)o->light_paths;
+    po.lights = N;
     po.placement.seed = seeds[0];
     po.placement.candidates = 10 * po.lights;
     po.photons.seed = seeds[1];
-    po.photons.paths = 10 * (size_t)o->light_paths;
+    po.photons.paths = 10 * N;
     po.photons.max_bounce = M >= 0 ? M - 2 : -1;
     po.photons.extinction = ctx->extinction;
     po.photons.use_global_majorant = ctx->tracking.use_global_majorant;
@@ -415,6 +481,11 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
                                 const vbl_transmittance_cache* cache, double u0, double u1, vbl_rng* rng,
                                 vbl_sample_value* out)
 {
+    if (gs->blue_noise_mode && gs->blue_noise_volume) {
+        vbl_vec3 e = vbl_volume_from_blue_noise(ctx, ts, gs, sample, u0, u1, rng);
+        out->L[VBL_CLASS_VOLUME_FROM_SURFACE] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_SURFACE], e);
+        return;
+    }
     if (!photons || photons->surface_vsl_count == 0 || !(u1 > u0)) return;
     const vbl_scene* scene = ctx->scene;
     const vbl_vec3 o = sample->origin, d = sample->direction;

@@ -59,6 +59,7 @@ typedef struct vbl_surface_gather_settings {
      * set by vbl_surface_gather_blue_noise_begin, NULL otherwise. */
     struct vbl_bn_prepared* blue_noise;
     int blue_noise_mode; /* 1: surface_from_surface from `blue_noise` (nothing when it is NULL) */
+    int blue_noise_volume; /* blue_noise_mode: 1: volume_from_surface from `blue_noise` as well */
 } vbl_surface_gather_settings;
 
 /* Separates the blue-noise preparation's random streams: (seed ^ this, pass, 0). */

@@ -192,7 +192,7 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     if (!beams_direct && M != 0)
         vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
-    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0)) return;
+    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
 
     vbl_transmittance_cache cache; /* one camera-ray cache for the beams and the VBLs */
     double u0, u1;

@@ -59,6 +59,11 @@ vbl_photon_store* vbl_vpl_store_photons(void* store)
     return store ? &((vbl_vpl_store*)store)->photons : NULL;
 }
 
+vbl_surface_gather_settings* vbl_vpl_store_gather(void* store)
+{
+    return store ? &((vbl_vpl_store*)store)->gather : NULL;
+}
+
 void vbl_vpl_settings_from_options(const vbl_render_options* o, vbl_vpl_settings* out)
 {
     vbl_vpl_settings d = VBL_VPL_SETTINGS_DEFAULT;
@@ -93,7 +98,7 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
-    if (!s || (s->photons.vpl_count == 0 && s->photons.surface_vsl_count == 0)) return;
+    if (!s || (s->photons.vpl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;

@@ -40,5 +40,7 @@ void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store);
 /* The photon store of a pass's vpl store (benchmarks swap in other VPL sets; the store frees
  * whatever vpls array it holds at pass end with free()). */
 struct vbl_photon_store* vbl_vpl_store_photons(void* store);
+/* Its surface gather settings (benchmarks and tests compare variants). */
+struct vbl_surface_gather_settings* vbl_vpl_store_gather(void* store);
 
 #endif

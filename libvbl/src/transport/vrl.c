@@ -156,7 +156,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
-    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0)) return;
+    if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;

@@ -169,7 +169,8 @@ class _RenderOptions(ctypes.Structure):
                 ("beams_radius0", ctypes.c_double),
                 ("beams_alpha", ctypes.c_double),
                 ("vsl_placement", ctypes.c_int),
-                ("vsl_path_extension", ctypes.c_int)]
+                ("vsl_path_extension", ctypes.c_int),
+                ("vsl_lights", ctypes.c_int)]
 
 
 class _FilmStats(ctypes.Structure):
