@@ -138,6 +138,12 @@ static void test_bad_colour_space_and_flags(void** state)
     expect_failure(args, 2, "--beams-alpha", 1);
     snprintf(args, sizeof args, "'%s' -o '%s' --beams-radius0 -1", scene, ct_path(dir, "out.exr"));
     expect_failure(args, 2, "--beams-radius0", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --vsl-placement camera", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--vsl-placement", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --vsl-path-extension maybe", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--vsl-path-extension", 1);
+    snprintf(args, sizeof args, "'%s' -o '%s' --vsl-lights 0", scene, ct_path(dir, "out.exr"));
+    expect_failure(args, 2, "--vsl-lights", 1);
 }
 
 int main(void)

@@ -77,7 +77,8 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
                             vbl_rng* rng, vbl_sample_value* out);
 
 /* volume_from_surface over the camera segment [u0, u1] with T_c from `cache` (built by
- * vbl_camera_segment_cache_to). Nothing without surface VSLs. */
+ * vbl_camera_segment_cache_to), from the surface VSLs, or from the blue-noise lights when
+ * settings->blue_noise_volume is set. Nothing without either. */
 void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_photon_store* photons,
                                 const vbl_surface_gather_settings* settings, const vbl_camera_sample* sample,
                                 const vbl_transmittance_cache* cache, double u0, double u1, vbl_rng* rng,
@@ -87,15 +88,18 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
  * with options.vsl_placement == VBL_VSL_PLACEMENT_BLUE_NOISE and surfaces, prepares this pass's
  * blue-noise light set with vbl_bn_prepare (blue_noise/prepare.h), seeds drawn from
  * vbl_rng_make(seed ^ VBL_RNG_DOMAIN_BLUE_NOISE, pass, 0):
- *   N = light_paths lights kept from 10 N camera candidates, 10 light_paths light paths split
- *   with max_bounce = M - 2 (M = max_bounces; unlimited for M < 0), 16x16 profiles.
+ *   N = vsl_lights (0: VBL_VSL_LIGHTS_DEFAULT) lights kept from 10 N camera candidates, 10 N
+ *   light paths (through the media, if any) split with max_bounce = M - 2 (M = max_bounces;
+ *   unlimited for M < 0), 16x16 profiles.
  * surface_from_surface at the camera's first surface hit x then comes from vbl_bn_gather (light
- * + BSDF sample, MIS) plus the path extension of eq 6 on the gather's BSDF sample: a pt path
- * from x along it, weighted by f cos / pdf (1 - w_v) (light reflected at least once after x).
- * The light-path surface VSLs still give volume_from_surface; no caustic photons are gathered
- * (highly specular senders are part of the blue-noise lights' profiles). Media are not
- * supported yet (VBL_ERROR_UNSUPPORTED: the blue-noise light paths ignore them). Otherwise
- * (light paths, no surfaces) it does nothing. */
+ * + BSDF sample, MIS, T(x, y) with media) plus, unless options.vsl_path_extension is OFF, the
+ * path extension of eq 6 on the gather's BSDF sample: a pt path from x along it, weighted by
+ * f cos / pdf (1 - w_v), of which the surface classes count (the light y reflects). In scenes
+ * with media volume_from_surface comes from the same lights (blue_noise_volume: one
+ * delta-tracking collision on the camera segment, shaded with the phase function in place of
+ * the BSDF); the light-path surface VSLs are then not gathered. No caustic photons are gathered
+ * (highly specular senders are part of the blue-noise lights' profiles). Otherwise (light paths,
+ * no surfaces) it does nothing. */
 vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs);
 void vbl_surface_gather_blue_noise_end(vbl_surface_gather_settings* gs);
 
