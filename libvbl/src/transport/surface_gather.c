@@ -171,6 +171,9 @@ static vbl_vec3 vbl_surface_nee(const vbl_render_context* ctx, vbl_thread_state*
     return sum;
 }
 
+/* Levels of eq 6 extensions shaded with the virtual lights before pt continues. */
+#define VBL_BN_RECURSION_DEPTH 8
+
 /* vbl_bn_trace_fn over the scene's surfaces. */
 static int vbl_bn_trace_surfaces(void* user, vbl_vec3 origin, vbl_vec3 dir, vbl_vec3* position, vbl_vec3* normal)
 {
@@ -224,9 +227,13 @@ static vbl_vec3 vbl_bn_path_extension(const vbl_render_context* ctx, vbl_thread_
  * light that surface_direct already has, its volume classes (a medium vertex between x and y)
  * are x's surface_from_volume, which the VRLs/VPLs estimate. max_bounces one less. Extension off
  * (render.vsl_path_extension = false): w_v = 1 wherever a light covers y, no extension. */
+static vbl_vec3 vbl_bn_shade_next(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                  const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
+                                  vbl_vec3 origin, vbl_vec3 dir, vbl_rng* rng, int depth);
+
 static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
                                             const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
-                                            const vbl_surface_hit* hit, vbl_vec3 wo, vbl_rng* rng)
+                                            const vbl_surface_hit* hit, vbl_vec3 wo, vbl_rng* rng, int depth)
 {
     const vbl_scene* scene = ctx->scene;
     const int M = ctx->options.max_bounces;
@@ -247,8 +254,28 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     sum = res.L;
     if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
     vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, res.bsdf_dir);
-    vbl_vec3 L = vbl_bn_path_extension(ctx, ts, sample, origin, res.bsdf_dir, rng);
+    vbl_vec3 L = (ctx->extinction->count == 0 && M < 0 && depth < VBL_BN_RECURSION_DEPTH)
+                     ? vbl_bn_shade_next(ctx, ts, gs, sample, origin, res.bsdf_dir, rng, depth + 1)
+                     : vbl_bn_path_extension(ctx, ts, sample, origin, res.bsdf_dir, rng);
     return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
+}
+
+/* Eq 6's L_p the paper's way ("shade y first", section 4): the light the first surface point y
+ * along dir reflects towards origin, estimated like the camera's shading point: next-event
+ * estimation at y plus the virtual lights at y (light + BSDF sample, w_v) and, where w_v < 1,
+ * the next extension. Used in surfaces-only scenes with unlimited bounces (the lights' fields
+ * hold every bounce; with media y's surface_from_volume would need the VRLs/VPLs, with a bounce
+ * limit each level would need one bounce less in the field): there pt takes over. Below
+ * VBL_BN_RECURSION_DEPTH levels; deeper, pt continues (unbiased either way). */
+static vbl_vec3 vbl_bn_shade_next(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                  const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
+                                  vbl_vec3 origin, vbl_vec3 dir, vbl_rng* rng, int depth)
+{
+    vbl_surface_hit y;
+    if (!vbl_surfaces_intersect(ctx->scene->surfaces, origin, dir, 0.0, INFINITY, &y)) return vbl_v3(0.0, 0.0, 0.0);
+    const vbl_vec3 wo = vbl_v3_scale(dir, -1.0);
+    vbl_vec3 L = vbl_surface_nee(ctx, ts, &y, wo, rng);
+    return vbl_v3_add(L, vbl_surface_from_blue_noise(ctx, ts, gs, sample, &y, wo, rng, depth));
 }
 
 /* vbl_bn_shading.medium_f at a delta-tracking collision: sigma_s p(cos) / sigma_t, RGB. */
@@ -423,7 +450,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
      * highly specular, light from a highly specular VSL comes from the caustic photons instead. */
     vbl_vec3 from_surface = vbl_v3(0.0, 0.0, 0.0);
     if (gs->blue_noise_mode) {
-        from_surface = vbl_surface_from_blue_noise(ctx, ts, gs, sample, &hit, wo, rng);
+        from_surface = vbl_surface_from_blue_noise(ctx, ts, gs, sample, &hit, wo, rng, 0);
         out->L[VBL_CLASS_SURFACE_FROM_SURFACE] =
             vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_SURFACE], from_surface, tcam);
         return;
