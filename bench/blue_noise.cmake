@@ -1,6 +1,6 @@
-# Issue-8 benchmark: light-path surface VSLs against blue-noise VSLs (with and without the path
-# extension) and pt, at equal time and at equal virtual-light count, on the smoky room and a
-# surfaces-only glossy room (bench/bench_blue_noise.c).
+# Issue-8 benchmark: light-path surface VSLs against blue-noise VSLs (N = vsl_lights in
+# {4096, 16384, 65536}, with and without the path extension) and pt, at equal time and at equal
+# virtual-light count, on the smoky room and a surfaces-only glossy room (bench/bench_blue_noise.c).
 # Run: build/bench/bench_blue_noise --budget 30 --csv bench/results/blue_noise.csv
 #      /usr/bin/python3 bench/plot_blue_noise.py bench/results/blue_noise.csv docs/images/blue_noise_error_vs_time.png
 add_executable(bench_blue_noise ${CMAKE_CURRENT_LIST_DIR}/bench_blue_noise.c)

@@ -31,7 +31,7 @@ static void vbl_render_usage(FILE* out)
             "                             (default) or camera-driven blue-noise placement\n"
             "  --vsl-path-extension on|off\n"
             "                             blue_noise: the adaptive camera path extension (default on)\n"
-            "  --vsl-lights N             blue_noise: virtual lights per pass (default 16384)\n"
+            "  --vsl-lights N             blue_noise: virtual lights per pass (default 1024)\n"
             "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
             "                             half-width in world units (default: from the scene and beam density)\n"
             "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"

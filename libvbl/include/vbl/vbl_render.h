@@ -163,7 +163,7 @@ typedef struct vbl_render_options {
     int vsl_lights;
 } vbl_render_options;
 
-#define VBL_VSL_LIGHTS_DEFAULT 16384
+#define VBL_VSL_LIGHTS_DEFAULT 1024
 
 #define VBL_VSL_PATH_EXTENSION_DEFAULT 0
 #define VBL_VSL_PATH_EXTENSION_ON 1
