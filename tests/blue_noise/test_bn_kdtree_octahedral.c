@@ -102,6 +102,65 @@ static void test_kdtree_matches_brute_force(void** state)
     }
 }
 
+/* Sphere queries with per-point radii (vbl_bn_kdtree_set_radii): the points whose sphere
+ * contains q, filtered by the caller as the light code does, equal brute force and come in the
+ * same order as the plain max-radius query; radii spanning two decades (the pruning's case). */
+typedef struct sphere_collect { const vbl_vec3* p; const double* r; vbl_vec3 q; size_t* idx; size_t n; size_t visits; } sphere_collect;
+static void sphere_visit(void* ctx, size_t i, double d2)
+{
+    sphere_collect* c = ctx;
+    ++c->visits;
+    if (d2 <= c->r[i] * c->r[i]) c->idx[c->n++] = i;
+}
+
+static void test_kdtree_sphere_queries(void** state)
+{
+    (void)state;
+    const size_t n = 4000;
+    vbl_vec3* p = malloc(n * sizeof *p);
+    double* r = malloc(n * sizeof *r);
+    vbl_rng rng = vbl_rng_make(9, 0, 0);
+    double rmax = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        p[i] = random_point(&rng, 0);
+        r[i] = 0.002 * pow(100.0, vbl_rng_uniform(&rng)); /* 0.002 .. 0.2 */
+        if (r[i] > rmax) rmax = r[i];
+    }
+    vbl_bn_kdtree plain, bounded;
+    assert_int_equal(vbl_bn_kdtree_build(&plain, p, NULL, n), VBL_SUCCESS);
+    assert_int_equal(vbl_bn_kdtree_build(&bounded, p, NULL, n), VBL_SUCCESS);
+    assert_int_equal(vbl_bn_kdtree_set_radii(&bounded, r), VBL_SUCCESS);
+    size_t* a = malloc(n * sizeof *a);
+    size_t* b = malloc(n * sizeof *b);
+    size_t visits_plain = 0, visits_bounded = 0, total = 0;
+    for (int q = 0; q < 500; ++q) {
+        vbl_vec3 qp = random_point(&rng, 0);
+        sphere_collect ca = {p, r, qp, a, 0, 0}, cb = {p, r, qp, b, 0, 0};
+        vbl_bn_kdtree_within(&plain, qp, rmax * (1.0 + 1e-12), sphere_visit, &ca);
+        vbl_bn_kdtree_within(&bounded, qp, rmax * (1.0 + 1e-12), sphere_visit, &cb);
+        size_t expect = 0;
+        for (size_t i = 0; i < n; ++i) {
+            vbl_vec3 d = vbl_v3_sub(qp, p[i]);
+            expect += vbl_v3_dot(d, d) <= r[i] * r[i];
+        }
+        assert_int_equal(ca.n, expect);
+        assert_int_equal(cb.n, expect);
+        for (size_t k = 0; k < ca.n; ++k) assert_int_equal(a[k], b[k]); /* same points, same order */
+        visits_plain += ca.visits;
+        visits_bounded += cb.visits;
+        total += expect;
+    }
+    printf("sphere queries: %zu hits, %zu visits with the max radius, %zu with subtree radii\n", total, visits_plain,
+           visits_bounded);
+    assert_true(visits_bounded < visits_plain);
+    vbl_bn_kdtree_free(&plain);
+    vbl_bn_kdtree_free(&bounded);
+    free(a);
+    free(b);
+    free(r);
+    free(p);
+}
+
 static vbl_vec3 uniform_direction(vbl_rng* r)
 {
     double z = 1.0 - 2.0 * vbl_rng_uniform(r), phi = 2.0 * VBL_PI * vbl_rng_uniform(r);
@@ -186,6 +245,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kdtree_matches_brute_force),
+        cmocka_unit_test(test_kdtree_sphere_queries),
         cmocka_unit_test(test_octahedral_round_trip),
         cmocka_unit_test(test_octahedral_solid_angles),
     };

@@ -68,6 +68,7 @@ vbl_result vbl_bn_kdtree_build(vbl_bn_kdtree* tree, const vbl_vec3* points, cons
 {
     tree->points = points;
     tree->count = count;
+    tree->subtree_radius = NULL;
     tree->order = (size_t*)malloc((count ? count : 1) * sizeof(size_t));
     tree->axis = (unsigned char*)calloc(count ? count : 1, 1);
     if (!tree->order || !tree->axis) {
@@ -83,8 +84,10 @@ void vbl_bn_kdtree_free(vbl_bn_kdtree* tree)
 {
     free(tree->order);
     free(tree->axis);
+    free(tree->subtree_radius);
     tree->order = NULL;
     tree->axis = NULL;
+    tree->subtree_radius = NULL;
     tree->count = 0;
 }
 
@@ -201,6 +204,14 @@ typedef struct within_state {
     void* ctx;
 } within_state;
 
+/* Squared pruning radius of the subtree over [lo, hi): the query's, or less with per-point radii. */
+static double subtree_r2(const within_state* s, size_t lo, size_t hi)
+{
+    if (!s->t->subtree_radius || hi <= lo) return s->r2;
+    double r = s->t->subtree_radius[lo + (hi - lo) / 2] * (1.0 + 1e-9);
+    return r * r < s->r2 ? r * r : s->r2;
+}
+
 static void within_range(within_state* s, size_t lo, size_t hi)
 {
     while (hi > lo) {
@@ -210,14 +221,36 @@ static void within_range(within_state* s, size_t lo, size_t hi)
         if (dd < s->r2) s->visit(s->ctx, pi, dd);
         if (hi - lo == 1) return;
         double diff = vbl_v3_get(d, s->t->axis[mid]);
-        /* left child: keys <= split; right: keys >= split */
-        if (diff < 0.0 || diff * diff < s->r2) within_range(s, lo, mid);
-        if (diff >= 0.0 || diff * diff < s->r2) {
+        /* left child: keys <= split; right: keys >= split; |diff| bounds the distance to the far side */
+        if (diff < 0.0 || diff * diff < subtree_r2(s, lo, mid)) within_range(s, lo, mid);
+        if (diff >= 0.0 || diff * diff < subtree_r2(s, mid + 1, hi)) {
             lo = mid + 1;
             continue;
         }
         return;
     }
+}
+
+static double set_radii_range(vbl_bn_kdtree* t, const double* radii, size_t lo, size_t hi)
+{
+    if (hi <= lo) return 0.0;
+    size_t mid = lo + (hi - lo) / 2;
+    double r = radii[t->order[mid]];
+    double a = set_radii_range(t, radii, lo, mid), b = set_radii_range(t, radii, mid + 1, hi);
+    if (a > r) r = a;
+    if (b > r) r = b;
+    t->subtree_radius[mid] = r;
+    return r;
+}
+
+vbl_result vbl_bn_kdtree_set_radii(vbl_bn_kdtree* tree, const double* radii)
+{
+    free(tree->subtree_radius);
+    tree->subtree_radius = (double*)malloc((tree->count ? tree->count : 1) * sizeof(double));
+    if (!tree->subtree_radius)
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise k-d tree: cannot allocate %zu radii", tree->count);
+    set_radii_range(tree, radii, 0, tree->count);
+    return VBL_SUCCESS;
 }
 
 void vbl_bn_kdtree_within(const vbl_bn_kdtree* tree, vbl_vec3 q, double radius, vbl_bn_kdtree_visit_fn visit,

@@ -19,6 +19,8 @@ typedef struct vbl_bn_kdtree {
     size_t count;
     size_t* order;          /* count point indices (into points[]) in tree order */
     unsigned char* axis;    /* split axis of the node whose splitting point sits at order[i] */
+    double* subtree_radius; /* NULL, or (vbl_bn_kdtree_set_radii) the largest radius in the subtree of
+                               the node whose splitting point sits at order[i] */
 } vbl_bn_kdtree;
 
 /* Builds the tree over points[subset[0..count)] (subset NULL: points[0..count)). The points must
@@ -37,6 +39,14 @@ size_t vbl_bn_kdtree_nearest(const vbl_bn_kdtree* tree, vbl_vec3 q, size_t m, si
 typedef void (*vbl_bn_kdtree_visit_fn)(void* ctx, size_t index, double d2);
 void vbl_bn_kdtree_within(const vbl_bn_kdtree* tree, vbl_vec3 q, double radius, vbl_bn_kdtree_visit_fn visit,
                           void* ctx);
+
+/* Gives every point a radius (radii[i] for points[i], finite, >= 0) and stores each subtree's
+ * largest. vbl_bn_kdtree_within then also skips a subtree whose split-plane distance from q is
+ * at least that subtree's largest radius (times 1 + 1e-9): for sphere queries ("which points'
+ * spheres contain q", the caller testing |p - q| against the point's own radius) it visits the
+ * same points that pass the caller's test, in the same order, without the max-radius sweep. The
+ * caller still passes the overall radius bound. Errors: VBL_ERROR_OUT_OF_MEMORY. */
+vbl_result vbl_bn_kdtree_set_radii(vbl_bn_kdtree* tree, const double* radii);
 
 /* Reorders order[0..n) so that order[k] holds the element of rank k by key (points[.][axis],
  * index) with smaller keys before it and larger after it (deterministic quickselect). Shared

@@ -39,6 +39,7 @@ vbl_result vbl_bn_light_set_init(vbl_bn_light_set* s, const vbl_bn_light* lights
     }
     s->total = s->cdf[count];
     vbl_result rc = vbl_bn_kdtree_build(&s->tree, s->positions, NULL, count);
+    if (rc == VBL_SUCCESS) rc = vbl_bn_tree_set_light_radii(&s->tree, lights, count);
     if (rc != VBL_SUCCESS) vbl_bn_light_set_free(s);
     return rc;
 }

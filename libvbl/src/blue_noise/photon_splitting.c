@@ -25,6 +25,16 @@ static int is_unit(vbl_vec3 v) { double l = vbl_v3_length(v); return isfinite(l)
 
 static size_t cells_of(const vbl_bn_light* l, int res) { return l->diffuse ? 1 : (size_t)res * (size_t)res; }
 
+vbl_result vbl_bn_tree_set_light_radii(vbl_bn_kdtree* tree, const vbl_bn_light* lights, size_t count)
+{
+    double* radii = (double*)malloc((count ? count : 1) * sizeof(double));
+    if (!radii) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise lights: cannot allocate %zu radii", count);
+    for (size_t i = 0; i < count; ++i) radii[i] = lights[i].radius;
+    vbl_result rc = vbl_bn_kdtree_set_radii(tree, radii);
+    free(radii);
+    return rc;
+}
+
 vbl_result vbl_bn_field_init(vbl_bn_incident_field* f, const vbl_bn_light* lights, size_t light_count, int res)
 {
     memset(f, 0, sizeof *f);
@@ -57,6 +67,7 @@ vbl_result vbl_bn_field_init(vbl_bn_incident_field* f, const vbl_bn_light* light
     f->values = (vbl_vec3*)calloc(f->offset[light_count] ? f->offset[light_count] : 1, sizeof(vbl_vec3));
     if (!f->values) goto oom;
     rc = vbl_bn_kdtree_build(&f->tree, f->positions, NULL, light_count);
+    if (rc == VBL_SUCCESS) rc = vbl_bn_tree_set_light_radii(&f->tree, lights, light_count);
     if (rc != VBL_SUCCESS) {
         vbl_bn_field_free(f);
         return rc;

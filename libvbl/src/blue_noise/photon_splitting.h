@@ -58,6 +58,9 @@ typedef struct vbl_bn_incident_field {
     size_t hits, lost_hits;
 } vbl_bn_incident_field;
 
+/* vbl_bn_kdtree_set_radii with the lights' radii (the tree is over the lights' positions, in order). */
+vbl_result vbl_bn_tree_set_light_radii(vbl_bn_kdtree* tree, const vbl_bn_light* lights, size_t count);
+
 /* res: octahedral resolution (VBL_BN_OCT_RESOLUTION_DEFAULT), even. Errors name the light or
  * field: non-finite position, non-unit normal, radius not finite and > 0;
  * VBL_ERROR_OUT_OF_MEMORY. lights must outlive the field. */
