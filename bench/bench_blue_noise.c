@@ -68,6 +68,7 @@
 #include "transport/estimator.h"
 #include "transport/photon_trace.h"
 #include "transport/surface_gather.h"
+#include "bench_reference.h"
 #include "vbl/vbl.h"
 
 #ifndef VBL_BENCH_DEFAULT_VDB
@@ -129,52 +130,7 @@ static run_config make_config(int kind, int lights, int spp)
 
 /* ---- layers and error -------------------------------------------------------------------- */
 
-#define MAX_LAYERS 9 /* bench_curves' reference layout: beauty, 7 classes, medium */
-#define SSF 4        /* surface_from_surface */
-static const char* const all_layers[MAX_LAYERS] = {"",
-                                                   "emission",
-                                                   "surface_direct",
-                                                   "volume_direct",
-                                                   "surface_from_surface",
-                                                   "surface_from_volume",
-                                                   "volume_from_surface",
-                                                   "volume_from_volume",
-                                                   "medium"};
-
-typedef struct reference {
-    int n;                   /* pixels */
-    int present[MAX_LAYERS]; /* layer in the reference film */
-    float* halves;           /* [2][MAX_LAYERS][n * 3] */
-    float* ref;              /* [MAX_LAYERS][n * 3]: mean of the halves */
-    double floor_rmae[MAX_LAYERS];
-    double seconds;
-} reference;
-
-/* RGB of a layer into out[n * 3] (medium = beauty - emission); 0 when the film lacks it. */
-static int film_rgb(const vbl_film* film, int l, int n, float* out)
-{
-    int ch = 0, che = 0;
-    const float* p = vbl_film_layer(film, l == 8 ? "" : all_layers[l], &ch);
-    const float* e = l == 8 ? vbl_film_layer(film, "emission", &che) : NULL;
-    if (!p || ch < 3) {
-        memset(out, 0, sizeof(float) * 3 * (size_t)n);
-        return 0;
-    }
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k)
-            out[3 * i + k] = p[(size_t)ch * i + k] - (e && che >= 3 ? e[(size_t)che * i + k] : 0.0f);
-    return 1;
-}
-
-static double rmae(const float* img, const float* ref, int count)
-{
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < count; ++i) {
-        num += fabs((double)img[i] - ref[i]);
-        den += fabs((double)ref[i]);
-    }
-    return den > 0.0 ? num / den : NAN;
-}
+#define SSF 4 /* surface_from_surface's index in bench_layer_names */
 
 static double sum_ratio(const float* img, const float* ref, int count)
 {
@@ -196,7 +152,7 @@ typedef struct errors {
     double rmae[ERR_COUNT], ratio[ERR_COUNT];
 } errors;
 
-static errors film_errors(const vbl_film* film, const reference* r, float* scratch)
+static errors film_errors(const vbl_film* film, const bench_reference* r, float* scratch)
 {
     errors e;
     const int c = 3 * r->n;
@@ -204,8 +160,8 @@ static errors film_errors(const vbl_film* film, const reference* r, float* scrat
         const int l = err_layer[k];
         e.rmae[k] = e.ratio[k] = NAN;
         if (!r->present[l]) continue;
-        film_rgb(film, l, r->n, scratch);
-        e.rmae[k] = rmae(scratch, r->ref + (size_t)l * c, c);
+        bench_film_rgb(film, l, r->n, scratch);
+        e.rmae[k] = bench_rmae(scratch, r->ref + (size_t)l * c, c);
         e.ratio[k] = sum_ratio(scratch, r->ref + (size_t)l * c, c);
     }
     return e;
@@ -230,19 +186,6 @@ typedef struct bench_args {
     int time_on, count_on;
 } bench_args;
 
-static int in_list(const char* list, const char* name)
-{
-    size_t len = strlen(name);
-    for (const char* s = list; *s;) {
-        const char* e = strchr(s, ',');
-        size_t l = e ? (size_t)(e - s) : strlen(s);
-        if (l == len && !strncmp(s, name, len)) return 1;
-        if (!e) break;
-        s = e + 1;
-    }
-    return 0;
-}
-
 /* A comma-separated list of positive integers into out[max]; returns the count (0: invalid). */
 static int parse_int_list(const char* v, int* out, int max)
 {
@@ -260,134 +203,17 @@ static int parse_int_list(const char* v, int* out, int max)
 
 static vbl_scene* load_scene(const bench_args* a, const bench_scene* s)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", VBL_BENCH_SOURCE_DIR, s->file);
-    const char* overrides[1] = {a->vdb};
-    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
-    lo.vdb_overrides = overrides;
-    lo.vdb_override_count = s->uses_vdb ? 1 : 0;
-    vbl_scene* scene = NULL;
-    if (vbl_scene_load_ex(path, &lo, &scene)) {
-        fprintf(stderr, "bench_blue_noise: %s\n", vbl_last_error_message());
-        exit(1);
-    }
-    /* same field of view at the bench resolution (the scene is not shared yet) */
-    scene->camera.width = a->width;
-    scene->camera.height = a->height;
-    return scene;
+    return bench_load_scene("bench_blue_noise", VBL_BENCH_SOURCE_DIR, s->file, s->uses_vdb ? a->vdb : NULL, a->width,
+                            a->height);
 }
 
-/* ---- reference (bench_curves' cache format) ---------------------------------------------- */
+/* ---- reference (bench_reference.h, shared with bench_curves) ----------------------------- */
 
-static int load_reference(const char* raw, const char* txt, const char* want, reference* r)
+static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, bench_reference* r)
 {
-    FILE* f = fopen(txt, "r");
-    if (!f) return 0;
-    char have[2048] = {0};
-    size_t got = fread(have, 1, sizeof have - 1, f);
-    fclose(f);
-    have[got] = '\0';
-    char* nl = strchr(have, '\n');
-    if (!nl) return 0;
-    *nl = '\0';
-    if (strcmp(have, want)) return 0;
-    for (int l = 0; l < MAX_LAYERS; ++l) {
-        if (nl[1 + l] != '0' && nl[1 + l] != '1') return 0;
-        r->present[l] = nl[1 + l] == '1';
-    }
-    f = fopen(raw, "rb");
-    if (!f) return 0;
-    size_t want_count = (size_t)2 * MAX_LAYERS * 3 * r->n;
-    size_t count = fread(r->halves, sizeof(float), want_count, f);
-    fclose(f);
-    return count == want_count;
-}
-
-static void render_reference(const vbl_scene* scene, const bench_args* a, reference* r)
-{
-    for (int h = 0; h < 2; ++h) {
-        vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-        vbl_scene_render_options(scene, &o);
-        o.method = VBL_RENDER_PT;
-        o.spp = 4;
-        o.passes = 1 << 30;
-        o.time_limit = 0.5 * r->seconds;
-        o.seed = 4242u + 7919u * (uint64_t)h; /* bench_curves' seeds */
-        o.threads = a->threads;
-        vbl_film* film = NULL;
-        if (vbl_render(scene, &o, &film)) {
-            fprintf(stderr, "bench_blue_noise: %s\n", vbl_last_error_message());
-            exit(1);
-        }
-        vbl_film_stats st;
-        memset(&st, 0, sizeof st);
-        st.size = sizeof st;
-        vbl_film_get_stats(film, &st);
-        printf("# reference half %d: pt %d passes x %d spp in %.1f s\n", h, st.passes, st.spp, st.render_seconds);
-        for (int l = 0; l < MAX_LAYERS; ++l)
-            r->present[l] = film_rgb(film, l, r->n, r->halves + ((size_t)h * MAX_LAYERS + l) * 3 * r->n);
-        vbl_film_release(film);
-    }
-}
-
-static void save_reference(const char* raw, const char* txt, const char* want, const reference* r)
-{
-    size_t count = (size_t)2 * MAX_LAYERS * 3 * r->n;
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp", raw);
-    FILE* f = fopen(tmp, "wb");
-    if (!f || fwrite(r->halves, sizeof(float), count, f) != count || fclose(f)) {
-        fprintf(stderr, "bench_blue_noise: cannot write %s (reference not cached)\n", tmp);
-        return;
-    }
-    rename(tmp, raw);
-    f = fopen(txt, "w");
-    if (!f) return;
-    fprintf(f, "%s\n", want);
-    for (int l = 0; l < MAX_LAYERS; ++l) fputc(r->present[l] ? '1' : '0', f);
-    fputc('\n', f);
-    fclose(f);
-}
-
-/* The reference's own rMAE per layer: E|A - B| = 2 E|mean - truth| for independent halves. */
-static void reference_floor(reference* r)
-{
-    size_t per = (size_t)MAX_LAYERS * 3 * r->n;
-    for (int l = 0; l < MAX_LAYERS; ++l) {
-        r->floor_rmae[l] = NAN;
-        if (!r->present[l]) continue;
-        const float* a0 = r->halves + (size_t)l * 3 * r->n;
-        const float* b0 = r->halves + per + (size_t)l * 3 * r->n;
-        double num = 0.0, den = 0.0;
-        for (int i = 0; i < 3 * r->n; ++i) {
-            num += fabs((double)a0[i] - b0[i]);
-            den += fabs(0.5 * ((double)a0[i] + b0[i]));
-        }
-        r->floor_rmae[l] = den > 0.0 ? 0.5 * num / den : NAN;
-    }
-}
-
-static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
-{
-    r->n = a->width * a->height;
-    r->seconds = s->reference_seconds * a->reference_scale;
-    size_t per = (size_t)MAX_LAYERS * 3 * r->n;
-    r->halves = calloc(2 * per, sizeof(float));
-    r->ref = calloc(per, sizeof(float));
-    if (!r->halves || !r->ref) exit(1);
-    char raw[1024], txt[1024], want[2048];
-    snprintf(raw, sizeof raw, "%s/bench_curves_ref_%s_%dx%d.raw", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
-    snprintf(txt, sizeof txt, "%s/bench_curves_ref_%s_%dx%d.txt", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
-    snprintf(want, sizeof want, "scene=%s vdb=%s res=%dx%d method=pt spp=4 seconds=%g halves=2 layers=%d rgb", s->file,
-             a->vdb, a->width, a->height, r->seconds, MAX_LAYERS);
-    if (load_reference(raw, txt, want, r)) {
-        printf("# reference %s: cached %s (pt, %g s in two halves)\n", s->name, raw, r->seconds);
-    } else {
-        render_reference(scene, a, r);
-        save_reference(raw, txt, want, r);
-    }
-    for (size_t i = 0; i < per; ++i) r->ref[i] = 0.5f * (r->halves[i] + r->halves[per + i]);
-    reference_floor(r);
+    bench_reference_request q = {"bench_blue_noise", VBL_BENCH_CACHE_DIR, s->name, s->file, a->vdb, a->width,
+                                 a->height, a->threads, s->reference_seconds * a->reference_scale, 0};
+    bench_reference_make(scene, &q, r);
     printf("# reference %s own rMAE (floor): surface_from_surface %.4f, beauty %.4f\n", s->name, r->floor_rmae[SSF],
            r->floor_rmae[0]);
 }
@@ -484,7 +310,7 @@ typedef struct curve_point {
 } curve_point;
 
 typedef struct curve {
-    const reference* ref;
+    const bench_reference* ref;
     double budget;
     double overhead; /* seconds spent in this callback so far */
     double next_record;
@@ -563,7 +389,7 @@ typedef struct time_result {
     errors end;
 } time_result;
 
-static void run_time(const vbl_scene* scene, const bench_args* a, const reference* ref, const bench_scene* bs,
+static void run_time(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const bench_scene* bs,
                      run_config cfg, double clamp, FILE* csv, time_result* out)
 {
     memset(out, 0, sizeof *out);
@@ -619,7 +445,7 @@ typedef struct count_result {
 
 /* N surface VSLs per pass: lp*: light_paths = round(N / v); bn_*: vsl_lights = N with the same
  * light_paths as at equal time (--lp-paths) for the volume classes' stores. */
-static void run_count(const vbl_scene* scene, const bench_args* a, const reference* ref, const bench_scene* bs,
+static void run_count(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const bench_scene* bs,
                       run_config cfg, int lights, double vsl_per_path, double clamp, FILE* csv, count_result* out)
 {
     memset(out, 0, sizeof *out);
@@ -668,7 +494,7 @@ static const char* fmt_ratio(char* buf, size_t size, double v, double base)
     return buf;
 }
 
-static void print_time_table(const bench_scene* bs, const bench_args* a, const reference* ref,
+static void print_time_table(const bench_scene* bs, const bench_args* a, const bench_reference* ref,
                              const time_result* tr, int count)
 {
     const double t = a->budget;
@@ -705,7 +531,7 @@ static void print_time_table(const bench_scene* bs, const bench_args* a, const r
     }
 }
 
-static void print_count_table(const bench_scene* bs, const bench_args* a, const reference* ref,
+static void print_count_table(const bench_scene* bs, const bench_args* a, const bench_reference* ref,
                               const count_result* cr, int per_count, double vsl_per_path)
 {
     printf("\n#### %s, equal virtual-light count (%d passes x %d spp; lp*: %.2f surface VSLs per light path; "
@@ -805,7 +631,7 @@ static void print_load(void)
 
 /* Equal time: pt, lp, lp_clamp, bn_ext at each N, then bn_noext at the N whose bn_ext had the
  * lowest surface_from_surface rMAE at the budget (or --noext-lights). Returns the runs made. */
-static int run_time_all(const vbl_scene* scene, const bench_args* a, const reference* ref, const bench_scene* bs,
+static int run_time_all(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const bench_scene* bs,
                         double clamp, FILE* csv, time_result* tr)
 {
     int n = 0;
@@ -816,7 +642,7 @@ static int run_time_all(const vbl_scene* scene, const bench_args* a, const refer
         cfgs[n++] = make_config(CFG_BN_EXT, a->bn_lights[k], a->bn_spp_n ? a->bn_spp[k] : bs->bn_spp[k]);
     int done = 0, best = -1;
     for (int i = 0; i < n; ++i) {
-        if (!in_list(a->configs, cfg_names[cfgs[i].kind])) continue;
+        if (!bench_in_list(a->configs, cfg_names[cfgs[i].kind])) continue;
         time_result* r = &tr[done++];
         run_time(scene, a, ref, bs, cfgs[i], clamp, csv, r);
         printf("# %s time %s: %d passes, %.1f s, ssf %.4f, prep %.2f s", bs->name, cfgs[i].name, r->passes,
@@ -825,7 +651,7 @@ static int run_time_all(const vbl_scene* scene, const bench_args* a, const refer
         if (r->ok && r->cfg.kind == CFG_BN_EXT && (best < 0 || r->at[ERR_SSF][3] < tr[best].at[ERR_SSF][3]))
             best = done - 1;
     }
-    if (!in_list(a->configs, cfg_names[CFG_BN_NOEXT]) || (best < 0 && !a->noext_lights)) return done;
+    if (!bench_in_list(a->configs, cfg_names[CFG_BN_NOEXT]) || (best < 0 && !a->noext_lights)) return done;
     run_config nx = best >= 0 ? make_config(CFG_BN_NOEXT, tr[best].cfg.lights, tr[best].cfg.spp)
                               : make_config(CFG_BN_NOEXT, a->noext_lights, bs->bn_spp[0]);
     for (int k = 0; a->noext_lights && k < a->bn_n; ++k)
@@ -840,13 +666,13 @@ static int run_time_all(const vbl_scene* scene, const bench_args* a, const refer
 }
 
 /* Equal count: for each N, lp, lp_clamp, bn_ext and bn_noext (the order of the table). */
-static void run_count_all(const vbl_scene* scene, const bench_args* a, const reference* ref, const bench_scene* bs,
+static void run_count_all(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const bench_scene* bs,
                           double clamp, double vsl_per_path, FILE* csv, count_result* cr)
 {
     const int kinds[4] = {CFG_LP, CFG_LP_CLAMP, CFG_BN_EXT, CFG_BN_NOEXT};
     for (int k = 0; k < a->count_n; ++k)
         for (int c = 0; c < 4; ++c) {
-            if (!in_list(a->count_configs, cfg_names[kinds[c]])) continue;
+            if (!bench_in_list(a->count_configs, cfg_names[kinds[c]])) continue;
             count_result* r = &cr[k * 4 + c];
             run_config cfg = make_config(kinds[c], cfg_is_bn(kinds[c]) ? a->counts[k] : 0, a->count_spp);
             run_count(scene, a, ref, bs, cfg, a->counts[k], vsl_per_path, clamp, csv, r);
@@ -859,7 +685,7 @@ static void run_count_all(const vbl_scene* scene, const bench_args* a, const ref
 static void bench_scene_run(const bench_args* a, const bench_scene* bs, FILE* csv)
 {
     vbl_scene* scene = load_scene(a, bs);
-    reference ref;
+    bench_reference ref;
     memset(&ref, 0, sizeof ref);
     make_reference(scene, a, bs, &ref);
     errors floor_e;
@@ -933,7 +759,7 @@ int main(int argc, char** argv)
                  "ratio_volume_from_surface,ratio_beauty,prep_seconds\n");
     print_header(&a);
     for (size_t s = 0; s < sizeof bench_scenes / sizeof bench_scenes[0]; ++s)
-        if (in_list(a.scenes, bench_scenes[s].name)) bench_scene_run(&a, &bench_scenes[s], csv);
+        if (bench_in_list(a.scenes, bench_scenes[s].name)) bench_scene_run(&a, &bench_scenes[s], csv);
     fclose(csv);
     return 0;
 }

@@ -62,6 +62,7 @@
 #include "transport/estimator.h"
 #include "transport/photon_trace.h"
 #include "transport/vpl.h"
+#include "bench_reference.h"
 #include "vbl/vbl.h"
 
 #ifndef VBL_BENCH_DEFAULT_VDB
@@ -473,53 +474,10 @@ static const bench_scene bench_scenes[] = {
     {"smoky_room", "samples/smoky_room.json", 2.5}, /* the cloud as smoke in a room, spot light */
 };
 
-#define MAX_LAYERS 9
+/* indices in bench_layer_names (bench_reference.h) */
 #define LAYER_SFV 5
 #define LAYER_VFV 7
-#define LAYER_MEDIUM 8
-static const char* const all_layers[MAX_LAYERS] = {"",
-                                                   "emission",
-                                                   "surface_direct",
-                                                   "volume_direct",
-                                                   "surface_from_surface",
-                                                   "surface_from_volume",
-                                                   "volume_from_surface",
-                                                   "volume_from_volume",
-                                                   "medium"};
-
-typedef struct reference {
-    int n, width, height;
-    int present[MAX_LAYERS];
-    float* halves; /* [2][MAX_LAYERS][n * 3] (bench_curves' cache layout) */
-    float* ref;    /* [MAX_LAYERS][n * 3] */
-    char key[2048];
-} reference;
-
-/* RGB of a layer into out[n * 3] ("medium" = beauty - emission); 0 when the film lacks it. */
-static int film_rgb(const vbl_film* film, int l, int n, float* out)
-{
-    int ch = 0, che = 0;
-    const float* p = vbl_film_layer(film, l == LAYER_MEDIUM ? "" : all_layers[l], &ch);
-    const float* e = l == LAYER_MEDIUM ? vbl_film_layer(film, "emission", &che) : NULL;
-    if (!p || ch < 3) {
-        memset(out, 0, sizeof(float) * 3 * (size_t)n);
-        return 0;
-    }
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k)
-            out[3 * i + k] = p[(size_t)ch * i + k] - (e && che >= 3 ? e[(size_t)che * i + k] : 0.0f);
-    return 1;
-}
-
-static double rmae(const float* img, const float* ref, int count)
-{
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < count; ++i) {
-        num += fabs((double)img[i] - ref[i]);
-        den += fabs((double)ref[i]);
-    }
-    return den > 0.0 ? num / den : NAN;
-}
+#define LAYER_MEDIUM BENCH_LAYER_MEDIUM
 
 /* rMAE of B x B block means: noise averages out, systematic error (bias) stays. */
 static double block_rmae(const float* img, const float* ref, int width, int height, int B)
@@ -556,131 +514,26 @@ typedef struct bench_args {
     int light_count;
 } bench_args;
 
-static int in_list(const char* list, const char* name)
-{
-    size_t len = strlen(name);
-    for (const char* s = list; *s;) {
-        const char* e = strchr(s, ',');
-        size_t l = e ? (size_t)(e - s) : strlen(s);
-        if (l == len && !strncmp(s, name, len)) return 1;
-        if (!e) break;
-        s = e + 1;
-    }
-    return 0;
-}
-
 static vbl_scene* load_scene(const bench_args* a, const bench_scene* s)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", a->source_dir, s->file);
-    const char* overrides[1] = {a->vdb};
-    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
-    lo.vdb_overrides = overrides;
-    lo.vdb_override_count = 1;
-    vbl_scene* scene = NULL;
-    if (vbl_scene_load_ex(path, &lo, &scene)) {
-        fprintf(stderr, "bench_bn_media: %s\n", vbl_last_error_message());
-        exit(1);
-    }
-    scene->camera.width = a->width;
-    scene->camera.height = a->height;
-    return scene;
+    return bench_load_scene("bench_bn_media", a->source_dir, s->file, a->vdb, a->width, a->height);
 }
 
-/* A bench_curves reference of this scene and resolution (any VDB path, any length). */
-static int load_reference(const char* raw, const char* txt, const bench_scene* s, reference* r)
+/* A bench_curves reference of this scene and resolution, any VDB path and length (bench_reference.h). */
+static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, bench_reference* r)
 {
-    FILE* f = fopen(txt, "r");
-    if (!f) return 0;
-    char have[2048] = {0};
-    size_t got = fread(have, 1, sizeof have - 1, f);
-    fclose(f);
-    have[got] = '\0';
-    char* nl = strchr(have, '\n');
-    if (!nl) return 0;
-    *nl = '\0';
-    char want_scene[512], want_res[128];
-    snprintf(want_scene, sizeof want_scene, "scene=%s vdb=", s->file);
-    snprintf(want_res, sizeof want_res, " res=%dx%d method=pt ", r->width, r->height);
-    if (strncmp(have, want_scene, strlen(want_scene)) || !strstr(have, want_res) || !strstr(have, "layers=9 rgb"))
-        return 0;
-    for (int l = 0; l < MAX_LAYERS; ++l) {
-        if (nl[1 + l] != '0' && nl[1 + l] != '1') return 0;
-        r->present[l] = nl[1 + l] == '1';
-    }
-    snprintf(r->key, sizeof r->key, "%s", have);
-    f = fopen(raw, "rb");
-    if (!f) return 0;
-    size_t want_count = (size_t)2 * MAX_LAYERS * 3 * r->n;
-    size_t count = fread(r->halves, sizeof(float), want_count, f);
-    fclose(f);
-    return count == want_count;
-}
-
-static void render_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
-{
-    for (int h = 0; h < 2; ++h) {
-        vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-        vbl_scene_render_options(scene, &o);
-        o.method = VBL_RENDER_PT;
-        o.spp = 4;
-        o.passes = 1 << 30;
-        o.time_limit = 0.5 * a->reference_seconds * s->reference_factor;
-        o.seed = 4242u + 7919u * (uint64_t)h;
-        o.threads = a->threads;
-        vbl_film* film = NULL;
-        if (vbl_render(scene, &o, &film)) {
-            fprintf(stderr, "bench_bn_media: %s\n", vbl_last_error_message());
-            exit(1);
-        }
-        for (int l = 0; l < MAX_LAYERS; ++l)
-            r->present[l] = film_rgb(film, l, r->n, r->halves + ((size_t)h * MAX_LAYERS + l) * 3 * r->n);
-        vbl_film_release(film);
-    }
-}
-
-static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
-{
-    r->width = a->width;
-    r->height = a->height;
-    r->n = a->width * a->height;
-    size_t per = (size_t)MAX_LAYERS * 3 * r->n;
-    r->halves = calloc(2 * per, sizeof(float));
-    r->ref = calloc(per, sizeof(float));
-    if (!r->halves || !r->ref) exit(1);
-    char raw[1024], txt[1024];
-    snprintf(raw, sizeof raw, "%s/bench_curves_ref_%s_%dx%d.raw", a->cache_dir, s->name, a->width, a->height);
-    snprintf(txt, sizeof txt, "%s/bench_curves_ref_%s_%dx%d.txt", a->cache_dir, s->name, a->width, a->height);
-    if (load_reference(raw, txt, s, r)) {
-        printf("# reference %s: cached %s (%s)\n", s->name, raw, r->key);
-    } else {
-        snprintf(r->key, sizeof r->key, "scene=%s vdb=%s res=%dx%d method=pt spp=4 seconds=%g halves=2 layers=%d rgb",
-                 s->file, a->vdb, a->width, a->height, a->reference_seconds * s->reference_factor, MAX_LAYERS);
-        printf("# reference %s: rendering %s\n", s->name, r->key);
-        fflush(stdout);
-        render_reference(scene, a, s, r);
-        FILE* f = fopen(raw, "wb");
-        if (f && fwrite(r->halves, sizeof(float), 2 * per, f) == 2 * per && !fclose(f)) {
-            f = fopen(txt, "w");
-            if (f) {
-                fprintf(f, "%s\n", r->key);
-                for (int l = 0; l < MAX_LAYERS; ++l) fputc(r->present[l] ? '1' : '0', f);
-                fputc('\n', f);
-                fclose(f);
-            }
-        } else if (f) {
-            fclose(f);
-        }
-    }
-    for (size_t i = 0; i < per; ++i) r->ref[i] = 0.5f * (r->halves[i] + r->halves[per + i]);
+    bench_reference_request q = {"bench_bn_media", a->cache_dir, s->name, s->file, a->vdb, a->width, a->height,
+                                 a->threads, a->reference_seconds * s->reference_factor, 1};
+    bench_reference_make(scene, &q, r);
+    const size_t per = (size_t)BENCH_LAYERS * 3 * r->n;
     const int shown[3] = {LAYER_VFV, LAYER_SFV, LAYER_MEDIUM};
     for (int k = 0; k < 3; ++k) {
         int l = shown[k];
         if (!r->present[l]) continue;
         const float* a0 = r->halves + (size_t)l * 3 * r->n;
         const float* b0 = r->halves + per + (size_t)l * 3 * r->n;
-        printf("# reference %s %-20s own rMAE (floor) ~ %.4f, blocks %.4f\n", s->name, all_layers[l],
-               0.5 * rmae(a0, b0, 3 * r->n), 0.5 * block_rmae(a0, b0, r->width, r->height, 8));
+        printf("# reference %s %-20s own rMAE (floor) ~ %.4f, blocks %.4f\n", s->name, bench_layer_names[l],
+               0.5 * bench_rmae(a0, b0, 3 * r->n), 0.5 * block_rmae(a0, b0, r->width, r->height, 8));
     }
 }
 
@@ -697,7 +550,7 @@ typedef struct curve_point {
 } curve_point;
 
 typedef struct curve {
-    const reference* ref;
+    const bench_reference* ref;
     int min_passes;
     double budget, max_seconds, overhead;
     float* img;
@@ -727,9 +580,9 @@ static int on_pass(const vbl_render_progress* progress, void* user)
         int l = tracked_layers[k];
         p->err[k] = p->blocks[k] = p->ratio[k] = NAN;
         if (!c->ref->present[l]) continue;
-        film_rgb(film, l, c->ref->n, c->img);
+        bench_film_rgb(film, l, c->ref->n, c->img);
         const float* rl = c->ref->ref + (size_t)l * 3 * c->ref->n;
-        p->err[k] = rmae(c->img, rl, 3 * c->ref->n);
+        p->err[k] = bench_rmae(c->img, rl, 3 * c->ref->n);
         p->blocks[k] = block_rmae(c->img, rl, c->ref->width, c->ref->height, 8);
         double si = 0.0, sr = 0.0;
         for (int i = 0; i < 3 * c->ref->n; ++i) {
@@ -759,7 +612,7 @@ static const double budget_fractions[4] = {0.125, 0.25, 0.5, 1.0};
 
 static const char* kind_name(placement_kind k) { return k == PLACEMENT_CAMERA ? "camera" : "light_paths"; }
 
-static void run_one(const vbl_scene* scene, const bench_args* a, const reference* ref, const char* scene_name,
+static void run_one(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const char* scene_name,
                     const placement_config* config, uint64_t seed, FILE* csv, run_result* out)
 {
     memset(out, 0, sizeof *out);
@@ -854,7 +707,7 @@ static void print_err(const curve_point* p, int k)
     else printf(" %.4f | %.4f | %.3f |", p->err[k], p->blocks[k], p->ratio[k]);
 }
 
-static void print_tables(const char* scene_name, const reference* ref, const run_result* runs, int count,
+static void print_tables(const char* scene_name, const bench_reference* ref, const run_result* runs, int count,
                          const bench_args* a)
 {
     int sfv = ref->present[LAYER_SFV];
@@ -1021,9 +874,9 @@ int main(int argc, char** argv)
     fflush(stdout);
     for (size_t s = 0; s < sizeof bench_scenes / sizeof bench_scenes[0]; ++s) {
         const bench_scene* bs = &bench_scenes[s];
-        if (!in_list(a.scenes, bs->name)) continue;
+        if (!bench_in_list(a.scenes, bs->name)) continue;
         vbl_scene* scene = load_scene(&a, bs);
-        reference ref;
+        bench_reference ref;
         memset(&ref, 0, sizeof ref);
         make_reference(scene, &a, bs, &ref);
         double rate = measure_vpls_per_path(scene, &a);

@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_reference.h"
 #include "scene/scene.h"
 #include "vbl/vbl.h"
 
@@ -94,65 +95,7 @@ static const char* const bench_presets[] = {"preview", "production", "final"};
 
 /* ---- layers ------------------------------------------------------------------------------ */
 
-#define MAX_LAYERS 9
-#define MEDIUM 8
-#define VFV 7
-static const char* const all_layers[MAX_LAYERS] = {"",
-                                                   "emission",
-                                                   "surface_direct",
-                                                   "volume_direct",
-                                                   "surface_from_surface",
-                                                   "surface_from_volume",
-                                                   "volume_from_surface",
-                                                   "volume_from_volume",
-                                                   "medium"};
-
-static const char* layer_label(int l) { return l == 0 ? "beauty" : all_layers[l]; }
-
-typedef struct reference {
-    int n;                   /* pixels */
-    int present[MAX_LAYERS]; /* layer in the reference film */
-    float* halves;           /* [2][MAX_LAYERS][n * 3] */
-    float* ref;              /* [MAX_LAYERS][n * 3]: mean of the halves */
-    double floor_rmae[MAX_LAYERS];
-} reference;
-
-/* RGB of a layer into out[n * 3]; 0 when the film lacks it. */
-static int film_rgb(const vbl_film* film, int l, int n, float* out)
-{
-    int ch = 0;
-    if (l == MEDIUM) { /* beauty - emission */
-        const float* b = vbl_film_layer(film, "", &ch);
-        int che = 0;
-        const float* e = vbl_film_layer(film, "emission", &che);
-        if (!b || ch < 3) {
-            memset(out, 0, sizeof(float) * 3 * (size_t)n);
-            return 0;
-        }
-        for (int i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k)
-                out[3 * i + k] = b[(size_t)ch * i + k] - (e && che >= 3 ? e[(size_t)che * i + k] : 0.0f);
-        return 1;
-    }
-    const float* p = vbl_film_layer(film, all_layers[l], &ch);
-    if (!p || ch < 3) {
-        memset(out, 0, sizeof(float) * 3 * (size_t)n);
-        return 0;
-    }
-    for (int i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) out[3 * i + k] = p[(size_t)ch * i + k];
-    return 1;
-}
-
-static double rmae(const float* img, const float* ref, int count)
-{
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < count; ++i) {
-        num += fabs((double)img[i] - ref[i]);
-        den += fabs((double)ref[i]);
-    }
-    return den > 0.0 ? num / den : NAN;
-}
+#define VFV 7 /* volume_from_volume's index in bench_layer_names */
 
 /* ---- arguments --------------------------------------------------------------------------- */
 
@@ -166,140 +109,21 @@ typedef struct bench_args {
     double vbl_radius0, vbl_alpha; /* for the method runs; 0: the library's defaults */
 } bench_args;
 
-static int in_list(const char* list, const char* name)
-{
-    size_t len = strlen(name);
-    for (const char* s = list; *s;) {
-        const char* e = strchr(s, ',');
-        size_t l = e ? (size_t)(e - s) : strlen(s);
-        if (l == len && !strncmp(s, name, len)) return 1;
-        if (!e) break;
-        s = e + 1;
-    }
-    return 0;
-}
-
 static vbl_scene* load_scene(const bench_args* a, const bench_scene* s)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", VBL_BENCH_SOURCE_DIR, s->file);
-    const char* overrides[1] = {a->vdb};
-    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
-    lo.vdb_overrides = overrides;
-    lo.vdb_override_count = 1;
-    vbl_scene* scene = NULL;
-    if (vbl_scene_load_ex(path, &lo, &scene)) {
-        fprintf(stderr, "bench_curves: %s\n", vbl_last_error_message());
-        exit(1);
-    }
-    /* same field of view at the bench resolution (the scene is not shared yet) */
-    scene->camera.width = a->width;
-    scene->camera.height = a->height;
-    return scene;
+    return bench_load_scene("bench_curves", VBL_BENCH_SOURCE_DIR, s->file, a->vdb, a->width, a->height);
 }
 
 /* ---- reference --------------------------------------------------------------------------- */
 
-static int load_reference(const char* raw, const char* txt, const char* want, reference* r)
+static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, bench_reference* r)
 {
-    FILE* f = fopen(txt, "r");
-    if (!f) return 0;
-    char have[2048] = {0};
-    size_t got = fread(have, 1, sizeof have - 1, f);
-    fclose(f);
-    have[got] = '\0';
-    char* nl = strchr(have, '\n');
-    if (!nl) return 0;
-    *nl = '\0';
-    if (strcmp(have, want)) return 0;
-    /* second line: the present flags */
-    for (int l = 0; l < MAX_LAYERS; ++l) {
-        if (nl[1 + l] != '0' && nl[1 + l] != '1') return 0;
-        r->present[l] = nl[1 + l] == '1';
-    }
-    f = fopen(raw, "rb");
-    if (!f) return 0;
-    size_t want_count = (size_t)2 * MAX_LAYERS * 3 * r->n;
-    size_t count = fread(r->halves, sizeof(float), want_count, f);
-    fclose(f);
-    return count == want_count;
-}
-
-static void render_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
-{
-    for (int h = 0; h < 2; ++h) {
-        vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-        vbl_scene_render_options(scene, &o);
-        o.method = VBL_RENDER_PT;
-        o.spp = 4;
-        o.passes = 1 << 30;
-        o.time_limit = 0.5 * a->reference_seconds * s->reference_factor;
-        o.seed = 4242u + 7919u * (uint64_t)h;
-        o.threads = a->threads;
-        vbl_film* film = NULL;
-        if (vbl_render(scene, &o, &film)) {
-            fprintf(stderr, "bench_curves: %s\n", vbl_last_error_message());
-            exit(1);
-        }
-        vbl_film_stats st;
-        memset(&st, 0, sizeof st);
-        st.size = sizeof st;
-        vbl_film_get_stats(film, &st);
-        printf("# reference half %d: pt %d passes x %d spp in %.1f s\n", h, st.passes, st.spp, st.render_seconds);
-        for (int l = 0; l < MAX_LAYERS; ++l)
-            r->present[l] = film_rgb(film, l, r->n, r->halves + ((size_t)h * MAX_LAYERS + l) * 3 * r->n);
-        vbl_film_release(film);
-    }
-}
-
-static void make_reference(const vbl_scene* scene, const bench_args* a, const bench_scene* s, reference* r)
-{
-    r->n = a->width * a->height;
-    size_t per = (size_t)MAX_LAYERS * 3 * r->n;
-    r->halves = calloc(2 * per, sizeof(float));
-    r->ref = calloc(per, sizeof(float));
-    if (!r->halves || !r->ref) exit(1);
-    char raw[1024], txt[1024], want[2048];
-    snprintf(raw, sizeof raw, "%s/bench_curves_ref_%s_%dx%d.raw", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
-    snprintf(txt, sizeof txt, "%s/bench_curves_ref_%s_%dx%d.txt", VBL_BENCH_CACHE_DIR, s->name, a->width, a->height);
-    snprintf(want, sizeof want, "scene=%s vdb=%s res=%dx%d method=pt spp=4 seconds=%g halves=2 layers=%d rgb", s->file,
-             a->vdb, a->width, a->height, a->reference_seconds * s->reference_factor, MAX_LAYERS);
-    if (load_reference(raw, txt, want, r)) {
-        printf("# reference %s: cached %s\n", s->name, raw);
-    } else {
-        render_reference(scene, a, s, r);
-        char tmp[1100];
-        snprintf(tmp, sizeof tmp, "%s.tmp", raw);
-        FILE* f = fopen(tmp, "wb");
-        if (f && fwrite(r->halves, sizeof(float), 2 * per, f) == 2 * per && !fclose(f)) {
-            rename(tmp, raw);
-            f = fopen(txt, "w");
-            if (f) {
-                fprintf(f, "%s\n", want);
-                for (int l = 0; l < MAX_LAYERS; ++l) fputc(r->present[l] ? '1' : '0', f);
-                fputc('\n', f);
-                fclose(f);
-            }
-        } else {
-            if (f) fclose(f);
-            fprintf(stderr, "bench_curves: cannot write %s (reference not cached)\n", tmp);
-        }
-    }
-    for (size_t i = 0; i < per; ++i) r->ref[i] = 0.5f * (r->halves[i] + r->halves[per + i]);
-    for (int l = 0; l < MAX_LAYERS; ++l) {
-        r->floor_rmae[l] = NAN;
-        if (!r->present[l]) continue;
-        const float* a0 = r->halves + (size_t)l * 3 * r->n;
-        const float* b0 = r->halves + per + (size_t)l * 3 * r->n;
-        /* E|A - B| = 2 E|mean - truth| for independent halves with equal (normal) noise */
-        double num = 0.0, den = 0.0;
-        for (int i = 0; i < 3 * r->n; ++i) {
-            num += fabs((double)a0[i] - b0[i]);
-            den += fabs(0.5 * ((double)a0[i] + b0[i]));
-        }
-        r->floor_rmae[l] = den > 0.0 ? 0.5 * num / den : NAN;
-        printf("# reference %s %-20s own rMAE (floor) ~ %.4f\n", s->name, layer_label(l), r->floor_rmae[l]);
-    }
+    bench_reference_request q = {"bench_curves", VBL_BENCH_CACHE_DIR, s->name, s->file, a->vdb, a->width, a->height,
+                                 a->threads, a->reference_seconds * s->reference_factor, 0};
+    bench_reference_make(scene, &q, r);
+    for (int l = 0; l < BENCH_LAYERS; ++l)
+        if (r->present[l])
+            printf("# reference %s %-20s own rMAE (floor) ~ %.4f\n", s->name, bench_layer_label(l), r->floor_rmae[l]);
     int vd = 3, vfv = VFV;
     if (r->present[vd] && r->present[vfv]) {
         double svd = 0.0, svfv = 0.0;
@@ -317,12 +141,12 @@ static void make_reference(const vbl_scene* scene, const bench_args* a, const be
 typedef struct curve_point {
     int pass;
     double seconds;
-    double err[MAX_LAYERS];
-    double ratio[MAX_LAYERS]; /* sum I / sum Iref: a layer's bias shows here */
+    double err[BENCH_LAYERS];
+    double ratio[BENCH_LAYERS]; /* sum I / sum Iref: a layer's bias shows here */
 } curve_point;
 
 typedef struct curve {
-    const reference* ref;
+    const bench_reference* ref;
     double budget;     /* stop after the pass that passes it; <= 0: run all passes */
     double max_seconds;
     double overhead;   /* seconds spent in this callback so far */
@@ -355,12 +179,12 @@ static int on_pass(const vbl_render_progress* progress, void* user)
         curve_point* p = &c->points[c->count++];
         p->pass = progress->pass;
         p->seconds = seconds;
-        for (int l = 0; l < MAX_LAYERS; ++l) {
+        for (int l = 0; l < BENCH_LAYERS; ++l) {
             p->err[l] = p->ratio[l] = NAN;
             if (!c->ref->present[l]) continue;
-            film_rgb(film, l, c->ref->n, c->img);
+            bench_film_rgb(film, l, c->ref->n, c->img);
             const float* rl = c->ref->ref + (size_t)l * 3 * c->ref->n;
-            p->err[l] = rmae(c->img, rl, 3 * c->ref->n);
+            p->err[l] = bench_rmae(c->img, rl, 3 * c->ref->n);
             double si = 0.0, sr = 0.0;
             for (int i = 0; i < 3 * c->ref->n; ++i) {
                 si += c->img[i];
@@ -397,11 +221,11 @@ typedef struct run_summary {
     int ok;
     int passes;
     double seconds;
-    double err_end[MAX_LAYERS], ratio_end[MAX_LAYERS];
-    double t10[MAX_LAYERS], t05[MAX_LAYERS];
+    double err_end[BENCH_LAYERS], ratio_end[BENCH_LAYERS];
+    double t10[BENCH_LAYERS], t05[BENCH_LAYERS];
 } run_summary;
 
-static void run_one(const vbl_scene* scene, const bench_args* a, const reference* ref, const char* scene_name,
+static void run_one(const vbl_scene* scene, const bench_args* a, const bench_reference* ref, const char* scene_name,
                     const vbl_render_options* base, double budget, const char* label, FILE* csv, run_summary* out)
 {
     memset(out, 0, sizeof *out);
@@ -440,7 +264,7 @@ static void run_one(const vbl_scene* scene, const bench_args* a, const reference
     const curve_point* last = &c.points[c.count - 1];
     out->passes = last->pass;
     out->seconds = last->seconds;
-    for (int l = 0; l < MAX_LAYERS; ++l) {
+    for (int l = 0; l < BENCH_LAYERS; ++l) {
         out->err_end[l] = last->err[l];
         out->ratio_end[l] = last->ratio[l];
         out->t10[l] = time_to(&c, l, 0.1);
@@ -452,7 +276,7 @@ static void run_one(const vbl_scene* scene, const bench_args* a, const reference
     for (int i = 0; csv && i < c.count; ++i) {
         const curve_point* p = &c.points[i];
         fprintf(csv, "%s,%s,%d,%.4f", label, scene_name, p->pass, p->seconds);
-        for (int l = 0; l < MAX_LAYERS; ++l) {
+        for (int l = 0; l < BENCH_LAYERS; ++l) {
             if (isnan(p->err[l])) fprintf(csv, ",");
             else fprintf(csv, ",%.6f", p->err[l]);
         }
@@ -519,7 +343,7 @@ int main(int argc, char** argv)
         return 1;
     }
     fprintf(csv, "method,scene,pass,seconds");
-    for (int l = 0; l < MAX_LAYERS; ++l) fprintf(csv, ",rmae_%s", layer_label(l));
+    for (int l = 0; l < BENCH_LAYERS; ++l) fprintf(csv, ",rmae_%s", bench_layer_label(l));
     fputc('\n', csv);
 
     double load[3] = {0};
@@ -536,15 +360,15 @@ int main(int argc, char** argv)
     enum { MAX_RUNS = 16 };
     for (size_t s = 0; s < sizeof bench_scenes / sizeof bench_scenes[0]; ++s) {
         const bench_scene* bs = &bench_scenes[s];
-        if (!in_list(a.scenes, bs->name)) continue;
+        if (!bench_in_list(a.scenes, bs->name)) continue;
         vbl_scene* scene = load_scene(&a, bs);
-        reference ref;
+        bench_reference ref;
         memset(&ref, 0, sizeof ref);
         make_reference(scene, &a, bs, &ref);
         fflush(stdout);
         /* the reference's own error: one row per scene, method "reference_floor", pass 0 */
         fprintf(csv, "reference_floor,%s,0,%.1f", bs->name, a.reference_seconds * bs->reference_factor);
-        for (int l = 0; l < MAX_LAYERS; ++l) {
+        for (int l = 0; l < BENCH_LAYERS; ++l) {
             if (isnan(ref.floor_rmae[l])) fprintf(csv, ",");
             else fprintf(csv, ",%.6f", ref.floor_rmae[l]);
         }
@@ -554,7 +378,7 @@ int main(int argc, char** argv)
         for (size_t m = 0; a.methods_on && m < sizeof bench_methods / sizeof bench_methods[0]; ++m) {
             const bench_method* bm = &bench_methods[m];
             vbl_render_method method;
-            if (!in_list(a.methods, bm->label)) continue;
+            if (!bench_in_list(a.methods, bm->label)) continue;
             if (vbl_render_method_parse(bm->method, &method)) {
                 printf("# method %s: not in this build, skipped\n", bm->method);
                 continue;
@@ -589,15 +413,15 @@ int main(int argc, char** argv)
         }
         /* time to 0.1 / 0.05 for beauty and volume_from_volume, end error for every layer */
         printf("\n### %s (reference floor: medium %.4f, beauty %.4f, volume_from_volume %.4f)\n\n", bs->name,
-               ref.floor_rmae[MEDIUM], ref.floor_rmae[0], ref.floor_rmae[VFV]);
+               ref.floor_rmae[BENCH_LAYER_MEDIUM], ref.floor_rmae[0], ref.floor_rmae[VFV]);
         printf("| run | settings | passes | seconds | medium rMAE | beauty rMAE | vfv rMAE | medium t(0.1) | "
                "medium t(0.05) | beauty t(0.1) | beauty t(0.05) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int i = 0; i < rc; ++i) {
             const run_summary* r = &runs[i];
             printf("| %s | %s | %d | %.2f | %.4f | %.4f | %.4f |", r->label, r->settings, r->passes, r->seconds,
-                   r->err_end[MEDIUM], r->err_end[0], r->err_end[VFV]);
-            print_time(r->t10[MEDIUM]);
-            print_time(r->t05[MEDIUM]);
+                   r->err_end[BENCH_LAYER_MEDIUM], r->err_end[0], r->err_end[VFV]);
+            print_time(r->t10[BENCH_LAYER_MEDIUM]);
+            print_time(r->t05[BENCH_LAYER_MEDIUM]);
             print_time(r->t10[0]);
             print_time(r->t05[0]);
             putchar('\n');
@@ -605,16 +429,16 @@ int main(int argc, char** argv)
         printf("\n| run | end rMAE (sum / reference sum) per layer |\n|---|---|\n");
         for (int i = 0; i < rc; ++i) {
             printf("| %s |", runs[i].label);
-            for (int l = 1; l < MEDIUM; ++l)
-                if (ref.present[l]) printf(" %s %.4f (%.3f)", layer_label(l), runs[i].err_end[l], runs[i].ratio_end[l]);
+            for (int l = 1; l < BENCH_LAYER_MEDIUM; ++l)
+                if (ref.present[l]) printf(" %s %.4f (%.3f)", bench_layer_label(l), runs[i].err_end[l], runs[i].ratio_end[l]);
             printf(" |\n");
         }
         /* per layer: time to 0.1 / 0.05, rMAE at the end (budget), energy check sum / reference sum */
         printf("\n| run | layer | t(0.1) | t(0.05) | rMAE at end | sum / ref sum |\n|---|---|---|---|---|---|\n");
         for (int i = 0; i < rc; ++i)
-            for (int l = 0; l <= MEDIUM; ++l) {
+            for (int l = 0; l <= BENCH_LAYER_MEDIUM; ++l) {
                 if (!ref.present[l] || l == 1) continue; /* emission: exact in every method */
-                printf("| %s | %s |", runs[i].label, layer_label(l));
+                printf("| %s | %s |", runs[i].label, bench_layer_label(l));
                 print_time(runs[i].t10[l]);
                 print_time(runs[i].t05[l]);
                 printf(" %.4f | %.3f |\n", runs[i].err_end[l], runs[i].ratio_end[l]);

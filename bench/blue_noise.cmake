@@ -3,7 +3,7 @@
 # virtual-light count, on the smoky room and a surfaces-only glossy room (bench/bench_blue_noise.c).
 # Run: build/bench/bench_blue_noise --budget 30 --csv bench/results/blue_noise.csv
 #      /usr/bin/python3 bench/plot_blue_noise.py bench/results/blue_noise.csv docs/images/blue_noise_error_vs_time.png
-add_executable(bench_blue_noise ${CMAKE_CURRENT_LIST_DIR}/bench_blue_noise.c)
+add_executable(bench_blue_noise ${CMAKE_CURRENT_LIST_DIR}/bench_blue_noise.c ${CMAKE_CURRENT_LIST_DIR}/bench_reference.c)
 set_target_properties(bench_blue_noise PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
 target_link_libraries(bench_blue_noise PRIVATE vbl_static OpenMP::OpenMP_C m)
 target_include_directories(bench_blue_noise PRIVATE ${PROJECT_SOURCE_DIR}/libvbl/src)

@@ -4,7 +4,7 @@
 # renders them): build/bench/bench_bn_media --scenes cloud --passes 128 --budget 20
 #                build/bench/bench_bn_media --scenes smoky_room --passes 24 --budget 20
 # Results: bench/results/bn_media.txt; summary: docs/readme/blue_noise_media.md.
-add_executable(bench_bn_media ${CMAKE_CURRENT_LIST_DIR}/bench_bn_media.c)
+add_executable(bench_bn_media ${CMAKE_CURRENT_LIST_DIR}/bench_bn_media.c ${CMAKE_CURRENT_LIST_DIR}/bench_reference.c)
 set_target_properties(bench_bn_media PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
 target_link_libraries(bench_bn_media PRIVATE vbl_static OpenMP::OpenMP_C m)
 target_include_directories(bench_bn_media PRIVATE ${PROJECT_SOURCE_DIR}/libvbl/src)

@@ -3,7 +3,7 @@
 # (bench/bench_curves.c).
 # Run: build/bench/bench_curves --budget 30 --csv bench/results/curves.csv
 #      /usr/bin/python3 bench/plot_curves.py bench/results/curves.csv docs/images/error_vs_time.png
-add_executable(bench_curves ${CMAKE_CURRENT_LIST_DIR}/bench_curves.c)
+add_executable(bench_curves ${CMAKE_CURRENT_LIST_DIR}/bench_curves.c ${CMAKE_CURRENT_LIST_DIR}/bench_reference.c)
 set_target_properties(bench_curves PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
 target_link_libraries(bench_curves PRIVATE vbl_static OpenMP::OpenMP_C m)
 target_include_directories(bench_curves PRIVATE ${PROJECT_SOURCE_DIR}/libvbl/src)
