@@ -468,11 +468,9 @@ static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, v
             return vbl_json_fail(ctx, "render.vsl_placement = \"%s\" is not one of light_paths, blue_noise", s);
     }
     /* render.vsl_path_extension: true (default) | false */
-    const cJSON* ext = cJSON_GetObjectItemCaseSensitive(obj, "vsl_path_extension");
-    if (ext) {
-        if (!cJSON_IsBool(ext)) return vbl_json_fail(ctx, "render.vsl_path_extension must be true or false");
-        o->vsl_path_extension = cJSON_IsTrue(ext) ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
-    }
+    int extension = -1;
+    if ((r = vbl_parse_bool(ctx, obj, "render", "vsl_path_extension", &extension))) return r;
+    if (extension >= 0) o->vsl_path_extension = extension ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
     v = o->vsl_lights;
     if ((r = vbl_json_int(ctx, obj, "render", "vsl_lights", 0, 1, 1e7, &v))) return r;
     o->vsl_lights = (int)v;

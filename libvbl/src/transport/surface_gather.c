@@ -189,13 +189,10 @@ static int vbl_bn_trace_surfaces(void* user, vbl_vec3 origin, vbl_vec3 dir, vbl_
 static double vbl_bn_segment_transmittance(void* user, vbl_vec3 a, vbl_vec3 b)
 {
     const gather_cb* c = user;
-    const vbl_extinction* ext = c->ctx->extinction;
     vbl_vec3 to = vbl_v3_sub(b, a);
-    double w = vbl_v3_length(to), t0, t1;
+    double w = vbl_v3_length(to);
     if (!(w > 0.0)) return 1.0;
-    vbl_vec3 d = vbl_v3_scale(to, 1.0 / w);
-    if (ext->count == 0 || !vbl_extinction_ray_bounds(ext, a, d, 0.0, w, &t0, &t1) || !(t1 > t0)) return 1.0;
-    return vbl_transmittance_estimate(ext, &c->ts->cursor, a, d, t0, t1, &c->ctx->tracking, c->rng);
+    return vbl_camera_transmittance(c->ctx, c->ts, a, vbl_v3_scale(to, 1.0 / w), w, c->rng);
 }
 
 /* Eq 6's L_p: the light reflected towards `origin` by the first vertex y along `dir` when y is a
@@ -219,45 +216,52 @@ static vbl_vec3 vbl_bn_path_extension(const vbl_render_context* ctx, vbl_thread_
                       v.L[VBL_CLASS_SURFACE_FROM_VOLUME]);
 }
 
-/* surface_from_surface at x from the blue-noise lights (vbl_bn_gather, eqs 3-9; with media, both
- * strategies carry an estimate of T(x, y)) plus the eq 6 path extension: a pt path from x along
- * the gather's BSDF sample, times f cos / pdf (1 - w_v). Of that path only the light its first
- * vertex y reflects counts, when y is a surface: the sub-path's surface_direct, _from_surface and
- * _from_volume classes (pt's free flight to y carries T(x, y)); its emission class is direct
- * light that surface_direct already has, its volume classes (a medium vertex between x and y)
- * are x's surface_from_volume, which the VRLs/VPLs estimate. max_bounces one less. Extension off
- * (render.vsl_path_extension = false): w_v = 1 wherever a light covers y, no extension. */
 static vbl_vec3 vbl_bn_shade_next(const vbl_render_context* ctx, vbl_thread_state* ts,
                                   const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
                                   vbl_vec3 origin, vbl_vec3 dir, vbl_rng* rng, int depth);
 
+/* One blue-noise shading of sp, a surface point or (material NULL) a medium point: vbl_bn_gather
+ * (eqs 3-9; with media both strategies carry an estimate of T(x, y)) plus, unless
+ * render.vsl_path_extension is false (then w_v = 1 wherever a light covers y), eq 6's extension
+ * on the gather's BSDF (phase) sample, weighted by f cos / pdf (1 - w_v): recursive
+ * (vbl_bn_shade_next) in surfaces-only scenes with unlimited bounces below
+ * VBL_BN_RECURSION_DEPTH levels, a pt path (vbl_bn_path_extension) otherwise. The caller
+ * checked gs->blue_noise and max_bounces >= 2 (or unlimited). */
+static vbl_vec3 vbl_bn_shade(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_gather_settings* gs,
+                             const vbl_camera_sample* sample, const vbl_bn_shading* sp, vbl_rng* rng, int depth)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_bn_prepared* bn = gs->blue_noise;
+    double u[6];
+    for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
+    const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
+    vbl_bn_gather_result res;
+    vbl_bn_gather(&bn->set, &bn->emission, sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
+                  extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
+    if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return res.L;
+    const vbl_vec3 origin = sp->material ? vbl_surface_spawn(scene->surfaces, sp->position, sp->geometric_normal,
+                                                             res.bsdf_dir)
+                                         : sp->position;
+    const vbl_vec3 L = (ctx->extinction->count == 0 && ctx->options.max_bounces < 0 && depth < VBL_BN_RECURSION_DEPTH)
+                           ? vbl_bn_shade_next(ctx, ts, gs, sample, origin, res.bsdf_dir, rng, depth + 1)
+                           : vbl_bn_path_extension(ctx, ts, sample, origin, res.bsdf_dir, rng);
+    return vbl_v3_madd(res.L, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
+}
+
+/* surface_from_surface at the surface hit from the blue-noise lights (vbl_bn_shade). */
 static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
                                             const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
                                             const vbl_surface_hit* hit, vbl_vec3 wo, vbl_rng* rng, int depth)
 {
     const vbl_scene* scene = ctx->scene;
     const int M = ctx->options.max_bounces;
-    vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
-    if (!gs->blue_noise || (M >= 0 && M < 2)) return sum;
-    const vbl_bn_prepared* bn = gs->blue_noise;
+    if (!gs->blue_noise || (M >= 0 && M < 2)) return vbl_v3(0.0, 0.0, 0.0);
     gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
     vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
                          &scene->materials[hit->material],
                          vbl_surfaces_ray_epsilon(scene->surfaces, hit->position),
                          ctx->extinction->count > 0 ? vbl_bn_segment_transmittance : NULL, &cb, NULL, NULL, 0.0};
-    double u[6];
-    for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
-    const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
-    vbl_bn_gather_result res;
-    vbl_bn_gather(&bn->set, &bn->emission, &sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
-                  extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
-    sum = res.L;
-    if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
-    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, res.bsdf_dir);
-    vbl_vec3 L = (ctx->extinction->count == 0 && M < 0 && depth < VBL_BN_RECURSION_DEPTH)
-                     ? vbl_bn_shade_next(ctx, ts, gs, sample, origin, res.bsdf_dir, rng, depth + 1)
-                     : vbl_bn_path_extension(ctx, ts, sample, origin, res.bsdf_dir, rng);
-    return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), res.cos_x * (1.0 - res.w_v) / res.bsdf_pdf);
+    return vbl_bn_shade(ctx, ts, gs, sample, &sp, rng, depth);
 }
 
 /* Eq 6's L_p the paper's way ("shade y first", section 4): the light the first surface point y
@@ -294,10 +298,8 @@ static vbl_vec3 vbl_bn_medium_f(void* user, double cos_theta)
 /* volume_from_surface over the camera segment [u0, u1] from the blue-noise lights (libvbl's
  * extension of the paper to media, docs/readme/blue_noise.md): one delta-tracking collision x
  * on the segment (density sigma_t T, so int T sigma_s L_s du is estimated by sigma_s / sigma_t
- * L_s(x) at x, 0 without a collision), then at x the same light + phase sampling with MIS and
- * w_v as at surfaces (vbl_bn_gather with the phase function for the BSDF) and, with the
- * extension, a pt path along the phase sample weighted by f / pdf (1 - w_v) (its surface
- * classes: the light that reaches x from the surface point y). */
+ * L_s(x) at x, 0 without a collision), shaded by vbl_bn_shade with the phase function for the
+ * BSDF (the extension is a pt path there: the scene has media). */
 static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_thread_state* ts,
                                            const vbl_surface_gather_settings* gs, const vbl_camera_sample* sample,
                                            double u0, double u1, vbl_rng* rng)
@@ -306,7 +308,6 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
     const int M = ctx->options.max_bounces;
     vbl_vec3 zero = vbl_v3(0.0, 0.0, 0.0);
     if (!gs->blue_noise || (M >= 0 && M < 2) || !(u1 > u0)) return zero;
-    const vbl_bn_prepared* bn = gs->blue_noise;
     double comps[VBL_MAX_MEDIA] = {0}, t = 0.0, sigma_t = 0.0;
     if (!vbl_free_flight_sample(ctx->extinction, &ts->cursor, sample->origin, sample->direction, u0, u1,
                                 ctx->tracking.use_global_majorant, rng, &t, &sigma_t, comps) ||
@@ -317,16 +318,7 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
     const vbl_vec3 x = vbl_v3_madd(sample->origin, sample->direction, t);
     vbl_bn_shading sp = {x, vbl_v3(0, 0, 1), vbl_v3(0, 0, 1), vbl_v3_scale(sample->direction, -1.0), NULL, 0.0,
                          vbl_bn_segment_transmittance, &cb, vbl_bn_medium_f, &mp, gs->g_camera};
-    double u[6];
-    for (int i = 0; i < 6; ++i) u[i] = vbl_rng_uniform(rng);
-    const int extend = ctx->options.vsl_path_extension != VBL_VSL_PATH_EXTENSION_OFF;
-    vbl_bn_gather_result res;
-    vbl_bn_gather(&bn->set, &bn->emission, &sp, vbl_bn_trace_surfaces, (void*)scene->surfaces, u,
-                  extend ? VBL_BN_N_MIN_DEFAULT : 0.0, extend ? VBL_BN_N_MAX_DEFAULT : 0.0, &res);
-    vbl_vec3 sum = res.L;
-    if (!extend || !res.bsdf_hit || !(res.w_v < 1.0) || !(res.bsdf_pdf > 0.0)) return sum;
-    vbl_vec3 L = vbl_bn_path_extension(ctx, ts, sample, x, res.bsdf_dir, rng);
-    return vbl_v3_madd(sum, vbl_v3_mul(res.bsdf_f, L), (1.0 - res.w_v) / res.bsdf_pdf);
+    return vbl_bn_shade(ctx, ts, gs, sample, &sp, rng, 0);
 }
 
 vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs)
