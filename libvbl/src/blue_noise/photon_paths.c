@@ -79,16 +79,8 @@ static void trace_path(const shared* sh, size_t index, path_hits* out)
             if (!(sigma_t > 0.0) || (sh->o->max_bounce >= 0 && k >= sh->o->max_bounce)) return;
             double u0 = vbl_rng_uniform(&rng), u1 = vbl_rng_uniform(&rng), u2 = vbl_rng_uniform(&rng);
             vbl_vec3 wi;
-            double pdf = 0.0;
-            if (!vbl_media_sample_phase(scene, comps, d, u0, u1, u2, &wi, &pdf) || !(pdf > 0.0)) return;
-            vbl_vec3 kernel = vbl_media_scatter_kernel(scene, comps, vbl_v3_dot(d, wi));
-            phi = vbl_v3_scale(vbl_v3_mul(phi, kernel), 1.0 / (pdf * sigma_t));
-            if (!(vbl_v3_max_component(phi) > 0.0)) return;
-            if (k >= 1) {
-                double q = fmin(1.0, vbl_v3_max_component(phi) / phi0);
-                if (vbl_rng_uniform(&rng) >= q) return;
-                phi = vbl_v3_scale(phi, 1.0 / q);
-            }
+            if (!vbl_media_scatter(scene, comps, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
+            if (!vbl_photon_continues(&phi, phi0, k >= 1, &rng)) return;
             x = vbl_v3_madd(x, d, t);
             d = wi;
             continue;
@@ -110,12 +102,7 @@ static void trace_path(const shared* sh, size_t index, path_hits* out)
         if (!(cos_o > 0.0) || !(vbl_v3_dot(w, hit.geometric_normal) > 0.0)) return;
         f = vbl_material_eval(m, hit.shading_normal, w, wi); /* f(outgoing, incident) */
         phi = vbl_v3_scale(vbl_v3_mul(phi, f), cos_o / pdf);
-        if (!(vbl_v3_max_component(phi) > 0.0)) return;
-        if (k >= 1) { /* Russian roulette from the third hit on */
-            double q = fmin(1.0, vbl_v3_max_component(phi) / phi0);
-            if (vbl_rng_uniform(&rng) >= q) return;
-            phi = vbl_v3_scale(phi, 1.0 / q);
-        }
+        if (!vbl_photon_continues(&phi, phi0, k >= 1, &rng)) return; /* roulette from the third hit on */
         double eps = vbl_surfaces_ray_epsilon(scene->surfaces, hit.position);
         x = vbl_v3_madd(hit.position, hit.geometric_normal, eps);
         d = w;

@@ -56,3 +56,14 @@ int vbl_media_sample_phase(const vbl_scene* scene, const double* component_sigma
     }
     return *pdf > 0.0;
 }
+
+int vbl_media_scatter(const vbl_scene* scene, const double* component_sigma_t, double sigma_t, vbl_vec3 travel,
+                      double u0, double u1, double u2, vbl_vec3* wi, double* pdf, vbl_vec3* throughput)
+{
+    double p = 0.0;
+    if (!vbl_media_sample_phase(scene, component_sigma_t, travel, u0, u1, u2, wi, &p)) return 0;
+    if (pdf) *pdf = p;
+    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, vbl_v3_dot(travel, *wi));
+    *throughput = vbl_v3_scale(vbl_v3_mul(*throughput, kernel), 1.0 / (p * sigma_t));
+    return 1;
+}

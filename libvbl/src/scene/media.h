@@ -20,4 +20,11 @@ double vbl_media_phase_pdf(const vbl_scene* scene, const double* component_sigma
 int vbl_media_sample_phase(const vbl_scene* scene, const double* component_sigma_t, vbl_vec3 travel,
                            double u0, double u1, double u2, vbl_vec3* wi, double* pdf);
 
+/* A walk's scattering at a delta-tracking collision (sigma_t > 0 there; pt, photon_trace.c,
+ * blue_noise/photon_paths.c): samples *wi with vbl_media_sample_phase (its pdf into *pdf unless
+ * NULL) and multiplies *throughput by sigma_s p / (pdf sigma_t) (RGB). Returns 0 (throughput
+ * untouched) if nothing scatters here. */
+int vbl_media_scatter(const vbl_scene* scene, const double* component_sigma_t, double sigma_t, vbl_vec3 travel,
+                      double u0, double u1, double u2, vbl_vec3* wi, double* pdf, vbl_vec3* throughput);
+
 #endif

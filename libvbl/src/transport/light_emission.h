@@ -45,4 +45,18 @@ double vbl_light_power(const vbl_light* light, vbl_vec3 sphere_center, double sp
 void vbl_add_visible_emission(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                               vbl_vec3 direction, vbl_rng* rng, vbl_sample_value* out);
 
+/* Whether a photon walk goes on after a scattering event (photon_trace.c,
+ * blue_noise/photon_paths.c): not when Phi has no power left; with `roulette`, Russian roulette
+ * with survival q = min(1, max Phi / phi0) (phi0: the max component of the emitted power),
+ * survivors divided by q, so no energy is cut off. */
+static inline int vbl_photon_continues(vbl_vec3* phi, double phi0, int roulette, vbl_rng* rng)
+{
+    if (!(vbl_v3_max_component(*phi) > 0.0)) return 0;
+    if (!roulette) return 1;
+    double q = fmin(1.0, vbl_v3_max_component(*phi) / phi0);
+    if (vbl_rng_uniform(rng) >= q) return 0;
+    *phi = vbl_v3_scale(*phi, 1.0 / q);
+    return 1;
+}
+
 #endif

@@ -98,7 +98,6 @@ typedef struct vbl_trace_shared {
     double power_total;
 } vbl_trace_shared;
 
-static double vbl_max3(vbl_vec3 v) { return vbl_v3_max_component(v); }
 
 /* The photon (power *phi travelling along *d) reached surface `hit` at the end of segment k:
  * records the surface VSL (and a caustic photon when *prev_specular says the previous vertex was
@@ -151,12 +150,7 @@ static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surfac
     /* the sender convention of surface_vsl.h: f(outgoing, incident) (equal for reciprocal BRDFs) */
     f = vbl_material_eval(m, hit->shading_normal, w, wi);
     *phi = vbl_v3_scale(vbl_v3_mul(*phi, f), cos_o / pdf);
-    if (!(vbl_max3(*phi) > 0.0)) return 0;
-    if (vertex >= 2) {
-        double q = fmin(1.0, vbl_max3(*phi) / phi0);
-        if (vbl_rng_uniform(rng) >= q) return 0;
-        *phi = vbl_v3_scale(*phi, 1.0 / q);
-    }
+    if (!vbl_photon_continues(phi, phi0, vertex >= 2, rng)) return 0;
     *x = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, w);
     *d = w;
     return 1;
@@ -187,7 +181,7 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     vbl_emission_sample es;
     if (!vbl_light_sample_emission(&scene->lights[pick], sh->center, sh->radius, u, &es)) return;
     vbl_vec3 phi = vbl_v3_scale(es.flux, 1.0 / (select_pdf * (double)ctx->options.light_paths));
-    const double phi0 = vbl_max3(phi);
+    const double phi0 = vbl_v3_max_component(phi);
     if (!(phi0 > 0.0)) return;
 
     vbl_vec3 x = es.origin, d = es.direction;
@@ -270,16 +264,8 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
         if (M >= 0 && vertex > M - 2) return;
         double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
         vbl_vec3 wi;
-        double pdf = 0.0;
-        if (!vbl_media_sample_phase(scene, comps, d, u0, u1, u2, &wi, &pdf)) return;
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, comps, vbl_v3_dot(d, wi));
-        phi = vbl_v3_scale(vbl_v3_mul(phi, kernel), 1.0 / (pdf * sigma_t));
-        if (!(vbl_max3(phi) > 0.0)) return;
-        if (vertex >= 2) {
-            double q = fmin(1.0, vbl_max3(phi) / phi0);
-            if (vbl_rng_uniform(rng) >= q) return;
-            phi = vbl_v3_scale(phi, 1.0 / q);
-        }
+        if (!vbl_media_scatter(scene, comps, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
+        if (!vbl_photon_continues(&phi, phi0, vertex >= 2, rng)) return;
         d = wi;
     }
 }

@@ -174,10 +174,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             if (max_bounces >= 0 && path.events >= max_bounces) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
             u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
-            if (!vbl_media_sample_phase(scene, components, direction, u0, u1, u2, &wi, &pdf)) break;
-            vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, wi));
-            double s = 1.0 / (pdf * sigma_t);
-            beta = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
+            if (!vbl_media_scatter(scene, components, sigma_t, direction, u0, u1, u2, &wi, &pdf, &beta)) break;
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
