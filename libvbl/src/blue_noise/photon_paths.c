@@ -35,32 +35,17 @@ static void push_hit(path_hits* p, const vbl_bn_photon_hit* h)
 typedef struct shared {
     const vbl_scene* scene;
     const vbl_bn_photon_options* o;
-    vbl_vec3 center;
-    double radius;
-    double cdf[VBL_MAX_LIGHTS + 1];
+    vbl_photon_source source;
 } shared;
 
 static void trace_path(const shared* sh, size_t index, path_hits* out)
 {
     const vbl_scene* scene = sh->scene;
     vbl_rng rng = vbl_rng_make(sh->o->seed, VBL_BN_PHOTON_STREAM, (uint64_t)index);
-    const double total = sh->cdf[scene->light_count];
-    double target = vbl_rng_uniform(&rng) * total;
-    int pick = -1;
-    for (int i = 0; i < scene->light_count; ++i)
-        if (sh->cdf[i + 1] > sh->cdf[i]) {
-            pick = i;
-            if (target < sh->cdf[i + 1]) break;
-        }
-    if (pick < 0) return;
-    double select_pdf = (sh->cdf[pick + 1] - sh->cdf[pick]) / total;
-    double u[4];
-    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(&rng);
     vbl_emission_sample es;
-    if (!vbl_light_sample_emission(&scene->lights[pick], sh->center, sh->radius, u, &es)) return;
-    vbl_vec3 phi = vbl_v3_scale(es.flux, 1.0 / (select_pdf * (double)sh->o->paths));
+    vbl_vec3 phi;
+    if (!vbl_photon_emit(&sh->source, scene, sh->o->paths, &rng, &es, &phi)) return;
     const double phi0 = vbl_v3_max_component(phi);
-    if (!(phi0 > 0.0) || !isfinite(phi0)) return;
     out->emitted = phi;
     vbl_vec3 x = es.origin, d = es.direction;
     const vbl_extinction* ext = sh->o->extinction;
@@ -129,14 +114,10 @@ vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_opti
     vbl_vec3 lo, hi;
     if (!vbl_surfaces_bounds(scene->surfaces, &lo, &hi))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: scene '%s' has no surfaces", scene->path);
-    sh.center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
-    sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo));
-    for (int i = 0; i < scene->light_count; ++i) {
-        double p = vbl_light_power(&scene->lights[i], sh.center, sh.radius);
-        sh.cdf[i + 1] = sh.cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
-    }
+    const double power = vbl_photon_source_init(&sh.source, scene, vbl_v3_scale(vbl_v3_add(lo, hi), 0.5),
+                                                0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)));
     st.paths = o->paths;
-    if (!(sh.cdf[scene->light_count] > 0.0)) {
+    if (!(power > 0.0)) {
         if (stats) *stats = st;
         return VBL_SUCCESS;
     }

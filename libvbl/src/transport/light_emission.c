@@ -173,3 +173,36 @@ void vbl_add_visible_emission(const vbl_render_context* ctx, vbl_thread_state* t
         *L = vbl_v3_madd(*L, light->color, T);
     }
 }
+
+double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_vec3 center, double radius)
+{
+    s->center = center;
+    s->radius = radius;
+    s->cdf[0] = 0.0;
+    for (int i = 0; i < scene->light_count; ++i) {
+        double p = vbl_light_power(&scene->lights[i], center, radius);
+        s->cdf[i + 1] = s->cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
+    }
+    return s->cdf[scene->light_count];
+}
+
+int vbl_photon_emit(const vbl_photon_source* s, const vbl_scene* scene, size_t paths, vbl_rng* rng,
+                    vbl_emission_sample* es, vbl_vec3* phi)
+{
+    const double total = s->cdf[scene->light_count];
+    double target = vbl_rng_uniform(rng) * total;
+    int pick = -1;
+    for (int i = 0; i < scene->light_count; ++i)
+        if (s->cdf[i + 1] > s->cdf[i]) {
+            pick = i;
+            if (target < s->cdf[i + 1]) break;
+        }
+    if (pick < 0) return 0;
+    double select_pdf = (s->cdf[pick + 1] - s->cdf[pick]) / total;
+    double u[4];
+    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(rng);
+    if (!vbl_light_sample_emission(&scene->lights[pick], s->center, s->radius, u, es)) return 0;
+    *phi = vbl_v3_scale(es->flux, 1.0 / (select_pdf * (double)paths));
+    const double phi0 = vbl_v3_max_component(*phi);
+    return phi0 > 0.0 && isfinite(phi0);
+}

@@ -45,6 +45,22 @@ double vbl_light_power(const vbl_light* light, vbl_vec3 sphere_center, double sp
 void vbl_add_visible_emission(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                               vbl_vec3 direction, vbl_rng* rng, vbl_sample_value* out);
 
+/* Where the photon walks of photon_trace.c and blue_noise/photon_paths.c start: the scene's lights
+ * selected by vbl_light_power about a bounding sphere. */
+typedef struct vbl_photon_source {
+    vbl_vec3 center;
+    double radius;
+    double cdf[VBL_MAX_LIGHTS + 1]; /* cdf[i + 1] - cdf[i]: light i's power (0 if not finite) */
+} vbl_photon_source;
+
+/* Fills s for the sphere; returns the total power (0: nothing emits towards it). */
+double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_vec3 center, double radius);
+
+/* One photon of `paths` per pass: a light by power (one uniform of rng), its emission (four),
+ * *phi = flux / (select_pdf paths). Returns 0 if the photon carries no finite power. */
+int vbl_photon_emit(const vbl_photon_source* s, const vbl_scene* scene, size_t paths, vbl_rng* rng,
+                    vbl_emission_sample* es, vbl_vec3* phi);
+
 /* Whether a photon walk goes on after a scattering event (photon_trace.c,
  * blue_noise/photon_paths.c): not when Phi has no power left; with `roulette`, Russian roulette
  * with survival q = min(1, max Phi / phi0) (phi0: the max component of the emitted power),

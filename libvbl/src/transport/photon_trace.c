@@ -92,10 +92,7 @@ typedef struct vbl_trace_shared {
     const vbl_photon_settings* settings;
     int store_surface_vsls;
     int caustics; /* the split of surface_caustics.h is on for this trace */
-    vbl_vec3 center;
-    double radius;
-    double light_cdf[VBL_MAX_LIGHTS + 1];
-    double power_total;
+    vbl_photon_source source;
 } vbl_trace_shared;
 
 
@@ -167,22 +164,10 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     const int use_global = ctx->tracking.use_global_majorant;
 
     /* light selection proportional to power */
-    double target = vbl_rng_uniform(rng) * sh->power_total;
-    int pick = -1;
-    for (int i = 0; i < scene->light_count; ++i)
-        if (sh->light_cdf[i + 1] > sh->light_cdf[i]) {
-            pick = i;
-            if (target < sh->light_cdf[i + 1]) break;
-        }
-    if (pick < 0) return;
-    double select_pdf = (sh->light_cdf[pick + 1] - sh->light_cdf[pick]) / sh->power_total;
-    double u[4];
-    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(rng);
     vbl_emission_sample es;
-    if (!vbl_light_sample_emission(&scene->lights[pick], sh->center, sh->radius, u, &es)) return;
-    vbl_vec3 phi = vbl_v3_scale(es.flux, 1.0 / (select_pdf * (double)ctx->options.light_paths));
+    vbl_vec3 phi;
+    if (!vbl_photon_emit(&sh->source, scene, (size_t)ctx->options.light_paths, rng, &es, &phi)) return;
     const double phi0 = vbl_v3_max_component(phi);
-    if (!(phi0 > 0.0)) return;
 
     vbl_vec3 x = es.origin, d = es.direction;
     int prev_specular = 0; /* the previous vertex was a highly specular surface (caustics) */
@@ -321,30 +306,26 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     sh.store_surface_vsls = store_surface_vsls && scene->surfaces != NULL;
     sh.caustics = sh.store_surface_vsls && cs.mode != VBL_CAUSTICS_OFF &&
                   vbl_materials_any_highly_specular(scene->materials, vbl_surfaces_count(scene->surfaces));
-    const int have_media = vbl_media_bounding_sphere(scene, &sh.center, &sh.radius);
+    vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
+    double radius = 0.0;
+    const int have_media = vbl_media_bounding_sphere(scene, &center, &radius);
     if (!have_media && !surface_paths) return VBL_SUCCESS;
     vbl_vec3 slo, shi;
     if (scene->surfaces && vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) {
         /* emit towards the media and the surfaces: the box around both, its circumsphere */
         vbl_vec3 lo = slo, hi = shi;
         if (have_media) {
-            vbl_vec3 r = vbl_v3(sh.radius, sh.radius, sh.radius);
-            vbl_vec3 mlo = vbl_v3_sub(sh.center, r), mhi = vbl_v3_add(sh.center, r);
+            vbl_vec3 r = vbl_v3(radius, radius, radius);
+            vbl_vec3 mlo = vbl_v3_sub(center, r), mhi = vbl_v3_add(center, r);
             lo = vbl_v3(fmin(mlo.x, slo.x), fmin(mlo.y, slo.y), fmin(mlo.z, slo.z));
             hi = vbl_v3(fmax(mhi.x, shi.x), fmax(mhi.y, shi.y), fmax(mhi.z, shi.z));
         }
-        sh.center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
-        sh.radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)) * 1.001 + 1e-9;
+        center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
+        radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)) * 1.001 + 1e-9;
     } else if (!have_media) {
         return VBL_SUCCESS;
     }
-    sh.light_cdf[0] = 0.0;
-    for (int i = 0; i < scene->light_count; ++i) {
-        double p = vbl_light_power(&scene->lights[i], sh.center, sh.radius);
-        sh.light_cdf[i + 1] = sh.light_cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
-    }
-    sh.power_total = sh.light_cdf[scene->light_count];
-    if (!(sh.power_total > 0.0)) return VBL_SUCCESS;
+    if (!(vbl_photon_source_init(&sh.source, scene, center, radius) > 0.0)) return VBL_SUCCESS;
 
     const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;
     vbl_photon_block* blk = calloc((size_t)blocks, sizeof *blk);
