@@ -1,6 +1,7 @@
 /* Shared helpers of the surface render tests (test_surface_render_agreement.c,
  * test_surface_caustics.c, test_surface_blue_noise.c): layer names, a quad mesh, layer sums and
- * the layers-sum-to-beauty check. Header-only (static); include after cmocka.h. */
+ * the layers-sum-to-beauty check, rendering with an estimator. Header-only (static); include after
+ * cmocka.h. */
 #ifndef VBL_TEST_SURFACE_RENDER_UTIL_H
 #define VBL_TEST_SURFACE_RENDER_UTIL_H
 
@@ -8,6 +9,7 @@
 
 #include "core/math.h"
 #include "material/material.h"
+#include "render/render_internal.h"
 #include "scene/scene.h"
 #include "transport/estimator.h"
 #include "transport_test_util.h"
@@ -65,6 +67,19 @@ static inline double check_sum_to_beauty(const vbl_film* film)
         }
     assert_true(tt_film_finite(film));
     return total;
+}
+
+/* Renders with estimator est (tt_options plus threads and max_bounces); fails the test on error. */
+static inline vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, int passes, int spp, int paths,
+                                    uint64_t seed, int threads, int max_bounces)
+{
+    vbl_render_options o = tt_options(passes, spp, paths, seed);
+    o.threads = threads;
+    o.max_bounces = max_bounces;
+    vbl_film* film = NULL;
+    if (vbl_render_with_estimator(scene, &o, est, &film) != VBL_SUCCESS)
+        fail_msg("render: %s", vbl_last_error_message());
+    return film;
 }
 
 #endif

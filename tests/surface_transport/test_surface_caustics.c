@@ -176,18 +176,6 @@ static void probe_end(const vbl_render_context* ctx, void* store)
 
 static const vbl_estimator probe = {"caustic-probe", 1, probe_begin, probe_sample, probe_end};
 
-static vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, int passes, int spp, int paths,
-                             uint64_t seed, int threads, int max_bounces)
-{
-    vbl_render_options o = tt_options(passes, spp, paths, seed);
-    o.threads = threads;
-    o.max_bounces = max_bounces;
-    vbl_film* film = NULL;
-    if (vbl_render_with_estimator(scene, &o, est, &film) != VBL_SUCCESS)
-        fail_msg("render: %s", vbl_last_error_message());
-    return film;
-}
-
 /* ---- fast ----------------------------------------------------------------------------------- */
 
 static void test_predicate(void** state)

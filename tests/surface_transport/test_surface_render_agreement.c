@@ -128,18 +128,6 @@ static void vbl_surface_sample(const vbl_render_context* ctx, const void* store,
 }
 static const vbl_estimator vbl_surface = {"vbl-surface", 1, vrl_r05_begin, vbl_surface_sample, vbl_vrl_pass_end};
 
-static vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, int passes, int spp, int paths,
-                             uint64_t seed, int threads, int max_bounces)
-{
-    vbl_render_options o = tt_options(passes, spp, paths, seed);
-    o.threads = threads;
-    o.max_bounces = max_bounces;
-    vbl_film* film = NULL;
-    if (vbl_render_with_estimator(scene, &o, est, &film) != VBL_SUCCESS)
-        fail_msg("render: %s", vbl_last_error_message());
-    return film;
-}
-
 /* ---- fast ---------------------------------------------------------------------------------- */
 
 static void test_sum_finite_and_deterministic(void** state)
