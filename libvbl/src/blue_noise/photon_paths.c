@@ -111,11 +111,12 @@ vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_opti
     memset(&sh, 0, sizeof sh);
     sh.scene = scene;
     sh.o = o;
-    vbl_vec3 lo, hi;
-    if (!vbl_surfaces_bounds(scene->surfaces, &lo, &hi))
+    vbl_vec3 center, lo, hi;
+    double radius;
+    if (!vbl_surfaces_bounds(scene->surfaces, &lo, &hi) ||
+        !vbl_photon_emission_sphere(scene, o->extinction && o->extinction->count > 0, &center, &radius))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise photons: scene '%s' has no surfaces", scene->path);
-    const double power = vbl_photon_source_init(&sh.source, scene, vbl_v3_scale(vbl_v3_add(lo, hi), 0.5),
-                                                0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)));
+    const double power = vbl_photon_source_init(&sh.source, scene, center, radius);
     st.paths = o->paths;
     if (!(power > 0.0)) {
         if (stats) *stats = st;

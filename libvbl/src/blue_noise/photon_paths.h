@@ -2,8 +2,10 @@
  * section 3.3: "trace many light paths without storing photons").
  *
  * Path i draws from vbl_rng_make(seed, VBL_BN_PHOTON_STREAM, i). A light is chosen proportionally
- * to vbl_light_power about the circumsphere of the surfaces' bounds, its emission sampled with
- * vbl_light_sample_emission (transport/light_emission.h), Phi_0 = flux / (select_pdf paths). At
+ * to vbl_light_power about vbl_photon_emission_sphere (the surfaces' bounds and, with
+ * options.extinction, the media's: light that the smoke outside the surfaces scatters onto them
+ * is traced too), its emission sampled with vbl_photon_emit (transport/light_emission.h),
+ * Phi_0 = flux / (select_pdf paths). At
  * every surface hit the photon (power arriving, incident = -d, shading normal) is split among the
  * nearby virtual lights (photon_splitting.h) when its bounce count k (surface hits before this
  * one) is <= max_bounce, then continues by BRDF sampling, Phi *= f cos / pdf, with Russian

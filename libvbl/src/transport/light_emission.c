@@ -174,6 +174,23 @@ void vbl_add_visible_emission(const vbl_render_context* ctx, vbl_thread_state* t
     }
 }
 
+int vbl_photon_emission_sphere(const vbl_scene* scene, int with_media, vbl_vec3* center, double* radius)
+{
+    const int have_media = with_media && vbl_media_bounding_sphere(scene, center, radius);
+    vbl_vec3 slo, shi;
+    if (!scene->surfaces || !vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) return have_media;
+    vbl_vec3 lo = slo, hi = shi;
+    if (have_media) {
+        vbl_vec3 r = vbl_v3(*radius, *radius, *radius);
+        vbl_vec3 mlo = vbl_v3_sub(*center, r), mhi = vbl_v3_add(*center, r);
+        lo = vbl_v3(fmin(mlo.x, slo.x), fmin(mlo.y, slo.y), fmin(mlo.z, slo.z));
+        hi = vbl_v3(fmax(mhi.x, shi.x), fmax(mhi.y, shi.y), fmax(mhi.z, shi.z));
+    }
+    *center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
+    *radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)) * 1.001 + 1e-9;
+    return 1;
+}
+
 double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_vec3 center, double radius)
 {
     s->center = center;

@@ -53,6 +53,11 @@ typedef struct vbl_photon_source {
     double cdf[VBL_MAX_LIGHTS + 1]; /* cdf[i + 1] - cdf[i]: light i's power (0 if not finite) */
 } vbl_photon_source;
 
+/* The sphere photons are emitted towards: the media's bounding sphere (with_media) and, with
+ * surfaces, the circumsphere of the box around it and the surfaces (widened by 0.1%). Returns 0
+ * when there is neither. */
+int vbl_photon_emission_sphere(const vbl_scene* scene, int with_media, vbl_vec3* center, double* radius);
+
 /* Fills s for the sphere; returns the total power (0: nothing emits towards it). */
 double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_vec3 center, double radius);
 

@@ -308,23 +308,8 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
                   vbl_materials_any_highly_specular(scene->materials, vbl_surfaces_count(scene->surfaces));
     vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
     double radius = 0.0;
-    const int have_media = vbl_media_bounding_sphere(scene, &center, &radius);
-    if (!have_media && !surface_paths) return VBL_SUCCESS;
-    vbl_vec3 slo, shi;
-    if (scene->surfaces && vbl_surfaces_bounds(scene->surfaces, &slo, &shi)) {
-        /* emit towards the media and the surfaces: the box around both, its circumsphere */
-        vbl_vec3 lo = slo, hi = shi;
-        if (have_media) {
-            vbl_vec3 r = vbl_v3(radius, radius, radius);
-            vbl_vec3 mlo = vbl_v3_sub(center, r), mhi = vbl_v3_add(center, r);
-            lo = vbl_v3(fmin(mlo.x, slo.x), fmin(mlo.y, slo.y), fmin(mlo.z, slo.z));
-            hi = vbl_v3(fmax(mhi.x, shi.x), fmax(mhi.y, shi.y), fmax(mhi.z, shi.z));
-        }
-        center = vbl_v3_scale(vbl_v3_add(lo, hi), 0.5);
-        radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo)) * 1.001 + 1e-9;
-    } else if (!have_media) {
-        return VBL_SUCCESS;
-    }
+    /* emit towards the media and the surfaces (without media only with surface paths: above) */
+    if (!vbl_photon_emission_sphere(scene, 1, &center, &radius)) return VBL_SUCCESS;
     if (!(vbl_photon_source_init(&sh.source, scene, center, radius) > 0.0)) return VBL_SUCCESS;
 
     const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;
