@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Doxygen INPUT_FILTER for libvbl's public headers (docsite/Doxyfile).
+
+The headers document every declaration with plain C comments, written for people reading the
+header; this filter lets Doxygen read the same comments without a second comment syntax in the
+sources: the file's first comment becomes its @file text, a comment on its own line documents
+the declaration below it (`/**`), a comment after code on the same line documents that code
+(`/**<`), and section rulers (`/* ---- name ---- */`) stay plain. A `<` that would open an HTML
+tag in prose ("<file>") is escaped. Usage: doxygen_filter.py FILE (writes to stdout)."""
+import re
+import sys
+
+
+def filter_header(text):
+    out, in_comment, seen_first = [], False, False
+    for line in text.split("\n"):
+        if in_comment:
+            end = line.find("*/")
+            body, rest = (line, "") if end < 0 else (line[:end], line[end:])
+            out.append(_escape(body) + rest)
+            in_comment = end < 0
+            continue
+        start = line.find("/*")
+        if start < 0 or line.startswith("//", 0):
+            out.append(line)
+            continue
+        code, comment = line[:start], line[start:]
+        if comment.startswith("/* ----"):
+            marker = "/*"
+        elif comment.startswith("/**"):
+            marker = comment[:4] if comment.startswith("/**<") else "/**"
+        elif code.strip():
+            marker = "/**<"
+        elif not seen_first:
+            marker = "/** @file\n *"
+        else:
+            marker = "/**"
+        seen_first = True
+        plain = "/**<" if comment.startswith("/**<") else ("/**" if comment.startswith("/**") else "/*")
+        body = comment[len(plain):]
+        end = body.find("*/")
+        if end < 0:
+            out.append(code + marker + _escape(body))
+            in_comment = True
+        else:
+            out.append(code + marker + _escape(body[:end]) + body[end:])
+    return "\n".join(out)
+
+
+def _escape(prose):
+    return re.sub(r"<(?=[A-Za-z/])", r"\\<", prose)
+
+
+if __name__ == "__main__":
+    with open(sys.argv[1], encoding="utf-8") as f:
+        sys.stdout.write(filter_header(f.read()))
