@@ -13,8 +13,9 @@ packages=(
   libboost-iostreams-dev libtbb-dev libopenexr-dev libopencolorio-dev libembree-dev libosd-dev
   libcjson-dev libpng-dev libcmocka-dev openimageio-tools libassimp-dev
 )
-# only for `./setup.sh test`: the Slurm integration test (tests/pipeline) and benchmark plots
-test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib)
+# only for `./setup.sh test`: the Slurm integration test (tests/pipeline), benchmark plots and the
+# documentation site (tests/docs: MkDocs + Doxygen)
+test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib mkdocs doxygen)
 
 install_missing_packages() {
   local missing=()
@@ -48,10 +49,11 @@ case "$mode" in
     build build
     ctest --test-dir build --output-on-failure -j"$jobs"
     # Second build with AddressSanitizer + UndefinedBehaviorSanitizer; long statistical renders
-    # (label 'slow') run only in the optimized build above.
+    # (label 'slow') and the documentation checks (label 'docs', no C code) run only in the
+    # optimized build above.
     build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE slow
+      ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "slow|docs"
     ;;
   *)
     echo "usage: ./setup.sh demo|test" >&2
