@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the documentation site into OUT_DIR and checks it (the `docs_site` test):
 #   1. mkdocs build --strict (warnings are errors: a missing page or a broken link between pages),
-#   2. Doxygen for the public headers into OUT_DIR/api (warnings are errors),
+#   2. Doxygen for the public headers into OUT_DIR/api (warnings are errors), and a second
+#      Doxygen pass that fails on an undocumented public symbol (type, field, enum value,
+#      macro, function) in any header but those listed in undocumented_allowed below,
 #   3. docsite/check_links.py: every internal link and #anchor of the pages resolves.
 # Usage: docsite/build_site.sh OUT_DIR [VBL_CLI [VERSION_HEADER_DIR]]
 #   VBL_CLI: the `vbl` binary whose --help texts fill the command-line reference;
@@ -30,5 +32,21 @@ mkdocs build --strict --quiet --config-file mkdocs.yml --site-dir "$out"
     echo "STRIP_FROM_PATH += $version_dir"
   fi
 } | doxygen -
+# Every public symbol has a comment. vbl_render.h is exempt while the options table and the film
+# API (issue 16 parts 1-2) rewrite it; remove it from this list once they land.
+undocumented_allowed="vbl_render.h"
+undocumented="$({
+  cat docsite/Doxyfile
+  echo "EXTRACT_ALL = NO"
+  echo "WARN_AS_ERROR = NO"
+  echo "GENERATE_HTML = NO"
+  echo "OUTPUT_DIRECTORY = $out/.undocumented"
+} | doxygen - 2>&1 | grep 'is not documented' | grep -v -F -e "/$undocumented_allowed:" || true)"
+rm -rf "$out/.undocumented"
+if [ -n "$undocumented" ]; then
+  echo "$undocumented"
+  echo "build_site: public symbols without a comment (the API reference is made from them)"
+  exit 1
+fi
 python3 docsite/check_links.py "$out"
 echo "build_site: $out/index.html"

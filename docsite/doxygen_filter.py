@@ -6,7 +6,9 @@ header; this filter lets Doxygen read the same comments without a second comment
 sources: the file's first comment becomes its @file text, a comment on its own line documents
 the declaration below it (`/**`), a comment after code on the same line documents that code
 (`/**<`), and section rulers (`/* ---- name ---- */`) stay plain. A `<` that would open an HTML
-tag in prose ("<file>") is escaped. Usage: doxygen_filter.py FILE (writes to stdout)."""
+tag in prose ("<file>") is escaped. A member line declaring several fields with one trailing
+comment (`int min[3], max[3]; /* inclusive */`) is split into one declaration per field, each
+with that comment (Doxygen would document only the last). Usage: doxygen_filter.py FILE (writes to stdout)."""
 import re
 import sys
 
@@ -47,10 +49,29 @@ def filter_header(text):
     return "\n".join(out)
 
 
+_MULTI = re.compile(r"^(\s*)((?:const\s+)?[A-Za-z_][\w ]*?[\s*]+)([A-Za-z_]\w*(?:\[\w*\])*(?:\s*,\s*[A-Za-z_]\w*(?:\[\w*\])*)+);(\s*)(/\*\*<.*)$")
+
+
+def split_declarators(text):
+    out = []
+    for line in text.split("\n"):
+        m = _MULTI.match(line)
+        if not m:
+            out.append(line)
+            continue
+        indent, type_, names, space, comment = m.groups()
+        if not comment.rstrip().endswith("*/"):
+            out.append(line)  # a comment continued on the next lines: leave it
+            continue
+        for name in names.split(","):
+            out.append("%s%s%s;%s%s" % (indent, type_, name.strip(), space, comment))
+    return "\n".join(out)
+
+
 def _escape(prose):
     return re.sub(r"<(?=[A-Za-z/])", r"\\<", prose)
 
 
 if __name__ == "__main__":
     with open(sys.argv[1], encoding="utf-8") as f:
-        sys.stdout.write(filter_header(f.read()))
+        sys.stdout.write(split_declarators(filter_header(f.read())))

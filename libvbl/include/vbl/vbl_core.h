@@ -27,10 +27,11 @@ extern "C" {
 #define VBL_API
 #endif
 
+/* What a fallible call returns; vbl_last_error_message() says more about a failure. */
 typedef enum vbl_result {
-    VBL_SUCCESS = 0,
+    VBL_SUCCESS = 0,                /* the call did what it was asked */
     VBL_ERROR_INVALID_ARGUMENT = 1, /* a parameter is out of range or NULL */
-    VBL_ERROR_OUT_OF_MEMORY = 2,
+    VBL_ERROR_OUT_OF_MEMORY = 2,    /* an allocation failed */
     VBL_ERROR_FILE_NOT_FOUND = 3,   /* a file does not exist or cannot be opened */
     VBL_ERROR_FILE_IO = 4,          /* read/write failure, full disk, unwritable path */
     VBL_ERROR_CORRUPT_FILE = 5,     /* not a VDB/NanoVDB/JSON file, truncated, bad checksum */
