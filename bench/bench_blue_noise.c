@@ -1,5 +1,5 @@
 /* Issue-8 benchmark: light-path surface VSLs against blue-noise VSLs
- * (../shared/papers/virtual-blue-noise-lighting.txt), with and without the adaptive camera path
+ * (Li et al. 2022), with and without the adaptive camera path
  * extension (eqs 6-9), at equal time and at equal virtual-light count, on the smoky room (media +
  * surfaces) and a surfaces-only glossy room (bench/scenes/glossy_room.json).
  *

@@ -12,7 +12,7 @@
  * of point lights along the camera ray); only the set of medium VPLs of a pass differs:
  *   light_paths  the classic VPLs: vpl's own photon trace with L light paths per pass, L chosen
  *                so that a pass holds about N medium VPLs (L measured per scene, counts printed);
- *   camera       N camera-driven lights (virtual-blue-noise-lighting.txt, carried into media):
+ *   camera       N camera-driven lights (Li et al. 2022, carried into media):
  *                3.1  M = candidates x N camera sub-paths: a camera ray through a random raster
  *                     position, a delta-tracking free flight to x1, an HG direction, a second
  *                     free flight to y = the candidate (the analogue of the secondary hit);

@@ -1,4 +1,4 @@
-/* Beam BVH (photon-beams-radiance-estimation.txt section 8.3): queries return exactly the
+/* Beam BVH (Jarosz et al. 2011a, section 8.3): queries return exactly the
  * brute-force set, long beams are split, the build is deterministic, bad beams are rejected. */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,4 +1,4 @@
-/* Photon beams, beam x beam 1D estimate (photon-beams-radiance-estimation.txt eq 38, biweight):
+/* Photon beams, beam x beam 1D estimate (Jarosz et al. 2011a, section 7.3, eq. 38, biweight):
  * kernel normalisation, eq 38 exactly for interior crossings, the line-line identity over
  * offsets, an analytic collimated bundle (converging as r shrinks), parallel lines finite. */
 #include <setjmp.h>

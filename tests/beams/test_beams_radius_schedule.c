@@ -1,5 +1,5 @@
-/* Progressive radius reduction (virtual-beam-lights.txt eq 11): the product form, the recurrence,
- * monotone decrease, the asymptotic exponent alpha - 1 of R^d, and the default R_0. */
+/* Progressive radius reduction (Novak et al. 2012 (VBL), section 4.1, eq. 11): the product form,
+ * the recurrence, monotone decrease, the asymptotic exponent alpha - 1 of R^d, and the default R_0. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

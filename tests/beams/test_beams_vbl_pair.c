@@ -1,4 +1,4 @@
-/* VBL media-to-media (virtual-beam-lights.txt section 3.2, eq 10): the two-stage sampler
+/* VBL media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10): the two-stage sampler
  * (chi-square of stage 1, stage 2 and the joint against the returned pdf; normalisation; the
  * closed-form stage-1 marginal), the VSL kernel (limits w >> R, R -> 0, w -> 0, g = +-0.999,
  * unbiased over its jitter) and the estimator (unbiased; lower variance than VRLs at equal count). */

@@ -1,4 +1,4 @@
-/* VSL cone (virtual-beam-lights.txt section 3.1, figure 5 right): geometry, least rotation,
+/* VSL cone (Novak et al. 2012 (VBL), section 3.1, figure 5 right): geometry, least rotation,
  * exact single-lobe maximum and the product maximum against brute force, uniform cone sampling. */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,4 +1,4 @@
-/* Camera-driven virtual-light placement (virtual-blue-noise-lighting.txt section 3.1) in a
+/* Camera-driven virtual-light placement (Li et al. 2022, section 3.1) in a
  * programmatic open box (floor, back and left Lambert walls, right wall a Phong mirror):
  * candidates lie on the surfaces, face and are unoccluded from the camera sub-path vertex x they
  * were shot from, x is camera-visible (or, after a specular extension, seen in the mirror); no

@@ -1,4 +1,4 @@
-/* Adaptive sample elimination (virtual-blue-noise-lighting.txt section 3.2): exactly N kept,
+/* Adaptive sample elimination (Li et al. 2022, section 3.2): exactly N kept,
  * blue-noise property (nearest-neighbour distance relative to r_max far above the input's),
  * density variation preserved (cell counts after / before within tolerance of N / M), eq 2 on a
  * uniform set, the parallel box scheme close to the sequential one, same result on 1 and 2

@@ -1,4 +1,4 @@
-/* Photon splitting (virtual-blue-noise-lighting.txt section 3.3): energy conservation (stored +
+/* Photon splitting (Li et al. 2022, section 3.3): energy conservation (stored +
  * lost == split power), partition of unity with weights 1 - (d/r)^2 against brute force, the
  * same-side rule, lost hits, merge; emission conversion (Lambert exact, the octahedral
  * conversion of a Lambertian lobe against the single value, GGX never gains energy); export to

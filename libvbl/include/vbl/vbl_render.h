@@ -154,7 +154,7 @@ typedef struct vbl_render_options {
      * render.vsl_placement; docs/readme/blue_noise.md) */
     int vsl_placement; /* VBL_VSL_PLACEMENT_LIGHT_PATHS (0, default) or VBL_VSL_PLACEMENT_BLUE_NOISE (1) */
     /* blue_noise only (scene file: render.vsl_path_extension): the adaptive camera path extension
-     * of virtual-blue-noise-lighting.txt eqs 6-9. VBL_VSL_PATH_EXTENSION_DEFAULT (0) = ON (1);
+     * of Li et al. 2022, section 4.2, eqs. 6-9. VBL_VSL_PATH_EXTENSION_DEFAULT (0) = ON (1);
      * OFF (2): virtual lights only (w_v = 1, no extension; biased near the lights, cheaper). */
     int vsl_path_extension;
     /* blue_noise only (render.vsl_lights): N virtual lights per pass, from 10 N camera

@@ -1,4 +1,4 @@
-/* The virtual-light positions of virtual-blue-noise-lighting.txt sections 3.1-3.2 in one call:
+/* The virtual-light positions of Li et al. 2022, sections 3.1-3.2, in one call:
  * camera candidates (camera_placement.h) -> adaptive sample elimination to N (sample_elimination.h)
  * -> lights with radius alpha r_max (alpha = 2) and the diffuse flag of their material, ready for
  * photon splitting (photon_splitting.h). */

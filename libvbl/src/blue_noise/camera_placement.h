@@ -1,4 +1,4 @@
-/* Initial virtual-light placement from camera sub-paths (virtual-blue-noise-lighting.txt
+/* Initial virtual-light placement from camera sub-paths (Li et al. 2022,
  * section 3.1, Figure 6): candidate k traces a primary ray through a jittered position of pixel
  * floor(k W H / M) (every pixel gets M / (W H) candidates, as the paper's equal samples per
  * screen tile), samples the BSDF at the primary hit x and places the candidate y at the next hit.

@@ -1,5 +1,5 @@
 /* Shading a surface point with the blue-noise lights as photon lights
- * (virtual-blue-noise-lighting.txt section 4, eqs 3-9), one sample of each strategy:
+ * (Li et al. 2022, sections 3.3 and 4, eqs. 3-9), one sample of each strategy:
  *
  *   target: int f(wo, w) cos_x w_v(w) L_v(y(w), -w) dw,  L_v(y, -w) = sum_{i: |y - y_i| <= r_i} I_i(-w)
  *

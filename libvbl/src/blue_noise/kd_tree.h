@@ -1,5 +1,5 @@
 /* Balanced 3D k-d tree over a point set for the blue-noise virtual lights
- * (virtual-blue-noise-lighting.txt section 3.2): m-nearest queries for eq 2's local density,
+ * (Li et al. 2022, section 3.2): m-nearest queries for eq 2's local density,
  * radius queries for the sample-elimination weights and for photon splitting (section 3.3).
  *
  * Implicit layout: `order` is a permutation of the point indices; the node over order[lo, hi)

@@ -1,5 +1,5 @@
 /* Power-based and BSDF light sampling helpers and the path-extension blend (light_sampling.h;
- * virtual-blue-noise-lighting.txt eqs 3-9). */
+ * Li et al. 2022, sections 3.3-4.2, eqs. 3-9). */
 #include "blue_noise/light_sampling.h"
 
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* Rendering-side pieces of virtual-blue-noise-lighting.txt section 4 as pure functions over a set
+/* Rendering-side pieces of Li et al. 2022, section 4, as pure functions over a set
  * of blue-noise lights with emission profiles (photon_splitting.h), for the renderer to call:
  *  - eq 4: pick light j with probability P_j / sum P (P_j: mean over RGB of the emitted power),
  *    then a direction uniform in the cone from x that contains the light's sphere,

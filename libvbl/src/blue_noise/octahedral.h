@@ -1,5 +1,5 @@
 /* Octahedral direction map (Engelhardt and Dachsbacher 2008), the per-light directional table
- * of virtual-blue-noise-lighting.txt section 5 (16 x 16 cells by default): the unit sphere is
+ * of Li et al. 2022, section 5 (16 x 16 cells by default): the unit sphere is
  * projected onto the octahedron |x| + |y| + |z| = 1, the upper half (z >= 0) unfolds onto the
  * diamond |u'| + |v'| <= 1 of [-1, 1]^2 and the lower half onto the four corners.
  * Directions are in any frame the caller chooses (the blue-noise lights use their local frame,

@@ -1,4 +1,4 @@
-/* Light paths for photon splitting over the scene's surfaces (virtual-blue-noise-lighting.txt
+/* Light paths for photon splitting over the scene's surfaces (Li et al. 2022,
  * section 3.3: "trace many light paths without storing photons").
  *
  * Path i draws from vbl_rng_make(seed, VBL_BN_PHOTON_STREAM, i). A light is chosen proportionally

@@ -1,5 +1,5 @@
 /* Photon splitting into per-light incident fields, and their conversion to emission profiles
- * (photon_splitting.h; virtual-blue-noise-lighting.txt section 3.3). */
+ * (photon_splitting.h; Li et al. 2022, section 3.3, eq. 3). */
 #include "blue_noise/photon_splitting.h"
 
 #include <stdlib.h>

@@ -1,5 +1,5 @@
 /* Photon splitting and emission profiles of the blue-noise virtual lights
- * (virtual-blue-noise-lighting.txt section 3.3 and section 5).
+ * (Li et al. 2022, section 3.3, eq. 3, and section 5).
  *
  * Photons are not stored: each photon hit (position, normal, unit incident direction pointing
  * back towards where the photon came from, power) is split among the nearby lights i with

@@ -1,4 +1,4 @@
-/* The whole virtual-light preparation of virtual-blue-noise-lighting.txt (Figure 4, Table 1's
+/* The whole virtual-light preparation of Li et al. 2022, sections 3.1-3.3 (Figure 4, Table 1's
  * "VSL placement, sample elimination, photon tracing, convert") in one call, for the renderer:
  *   camera candidates (camera_placement.h) -> N blue-noise lights, radius alpha r_max
  *   (blue_noise_lights.h) -> light paths split into incident fields (photon_paths.h) ->

@@ -1,5 +1,5 @@
 /* Adaptive weighted sample elimination over a balanced k-d tree of boxes
- * (sample_elimination.h; virtual-blue-noise-lighting.txt section 3.2, eqs 1-2). */
+ * (sample_elimination.h; Li et al. 2022, section 3.2, eqs. 1-2). */
 #include "blue_noise/sample_elimination.h"
 
 #include <stdlib.h>

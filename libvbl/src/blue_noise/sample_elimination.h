@@ -1,4 +1,4 @@
-/* Adaptive, parallel weighted sample elimination (virtual-blue-noise-lighting.txt section 3.2,
+/* Adaptive, parallel weighted sample elimination (Li et al. 2022, section 3.2, eqs. 1-2,
  * after Yuksel 2015): selects N of M candidate virtual-light positions forming a blue-noise set
  * that keeps the candidates' density variation.
  *

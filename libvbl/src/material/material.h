@@ -1,6 +1,6 @@
 /* Surface materials (BRDFs): Lambert, normalized Phong, GGX microfacet. Every model has value,
  * pdf and sampling routines plus the analytic direction of its maximum, which the VBL PDFs of
- * virtual-beam-lights.txt section 3.1 / section 6 need.
+ * Novak et al. 2012 (VBL), sections 3.1 and 6, need.
  *
  * Conventions: n is the unit shading normal; wo (towards the viewer / previous vertex) and wi
  * (towards the light / next vertex) are unit vectors pointing AWAY from the surface. eval returns

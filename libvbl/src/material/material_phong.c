@@ -1,5 +1,5 @@
 /* Normalized (modified) Phong BRDF, Lafortune & Willems 1994, the glossy model of the VBL paper
- * (virtual-beam-lights.txt section 5: exponents 60-100):
+ * (Novak et al. 2012 (VBL), section 5: exponents 60-100):
  *   f(wo, wi) = kd / pi + ks (e + 2) / (2 pi) max(0, cos alpha)^e,   cos alpha = r . wi,
  * r = 2 (n.wo) n - wo the mirror direction of wo. The (e + 2) / (2 pi) factor makes the
  * specular directional albedo exactly 1 at normal incidence and smaller elsewhere (horizon

@@ -1,4 +1,4 @@
-/* Progressive radius reduction, virtual-beam-lights.txt eq (11). */
+/* Progressive radius reduction, Novak et al. 2012 (VBL), section 4.1, eq. 11. */
 #include "render/radius_schedule.h"
 
 static int params_ok(double alpha, int dim) { return alpha > 0.0 && alpha <= 1.0 && (dim == 1 || dim == 2); }

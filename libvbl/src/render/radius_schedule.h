@@ -1,4 +1,4 @@
-/* Progressive radius reduction (virtual-beam-lights.txt section 4.1, eq 11; the progressive
+/* Progressive radius reduction (Novak et al. 2012 (VBL), section 4.1, eq. 11; the progressive
  * photon beams reduction it cites).
  *
  * Passes are numbered p = 0, 1, 2, ... (the paper's i = p + 1). With the kernel's blur dimension

@@ -1,4 +1,5 @@
-/* VBL media-to-media sampling and VSL kernel: virtual-beam-lights.txt sections 3.1-3.2, eqs 9-10. */
+/* VBL media-to-media sampling and VSL kernel: Novak et al. 2012 (VBL), sections 3.1-3.2,
+ * eqs. 9-10. */
 #include "sampling/vbl_pair.h"
 
 #include <stddef.h>

@@ -1,4 +1,4 @@
-/* Virtual beam lights, media-to-media (virtual-beam-lights.txt section 3.2, eq 10): the two-stage
+/* Virtual beam lights, media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10): the two-stage
  * sampler of a camera-segment x VRL pair whose points are inflated into volumetric VSLs of
  * radius R, and the VSL contribution kernel that replaces the VRL's f_s f_s / w^2.
  *

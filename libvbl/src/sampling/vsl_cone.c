@@ -1,4 +1,5 @@
-/* Cone of directions subtended by a volumetric VSL (virtual-beam-lights.txt section 3.1, fig. 5). */
+/* Cone of directions subtended by a volumetric VSL (Novak et al. 2012 (VBL), section 3.1,
+ * figure 5). */
 #include "sampling/vsl_cone.h"
 
 #include <stddef.h>

@@ -1,4 +1,4 @@
-/* The cone of directions subtended by a volumetric VSL (virtual-beam-lights.txt section 3.1,
+/* The cone of directions subtended by a volumetric VSL (Novak et al. 2012 (VBL), section 3.1,
  * figure 5 right): a sphere of radius R centred at c, seen from a point x.
  *
  * Directions are LIGHT-TRAVEL directions omega (from the VSL towards x), the convention of

@@ -1,4 +1,4 @@
-/* BVH over beams for camera-ray queries, photon-beams-radiance-estimation.txt section 8.3. */
+/* BVH over beams for camera-ray queries, Jarosz et al. 2011a, section 8.3. */
 #include "transport/beam_bvh.h"
 
 #include <stdlib.h>

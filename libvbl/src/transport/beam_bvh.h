@@ -1,5 +1,5 @@
 /* Bounding volume hierarchy over beams (photon beams, VRLs/VBLs): segments with a radius, built
- * once per pass, queried with a camera ray segment (photon-beams-radiance-estimation.txt
+ * once per pass, queried with a camera ray segment (Jarosz et al. 2011a,
  * section 8.3).
  *
  * Query contract: vbl_beam_bvh_query returns EXACTLY the beams whose segment lies within the

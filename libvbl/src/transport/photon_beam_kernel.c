@@ -1,4 +1,4 @@
-/* Beam x beam 1D photon beam estimate, photon-beams-radiance-estimation.txt eq (38). */
+/* Beam x beam 1D photon beam estimate, Jarosz et al. 2011a, section 7.3, eq. 38. */
 #include "transport/photon_beam_kernel.h"
 
 #include "sampling/phase_hg.h"

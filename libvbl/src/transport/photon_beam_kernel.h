@@ -1,4 +1,4 @@
-/* Photon beams, beam x beam 1D radiance estimate (photon-beams-radiance-estimation.txt eq 38,
+/* Photon beams, beam x beam 1D radiance estimate (Jarosz et al. 2011a, section 7.3, eq. 38,
  * biweight kernel of section 8.2):
  *     L(x_c <- omega_c) ~= sigma_s(x) f(theta_b) Phi_b T_b(t_b) T_c(t_c) K_r(d) / sin(theta_b),
  * camera ray c(u) = c_o + u c_d, u in [0, len_c]; photon beam b(t) = b_o + t b_d, t in

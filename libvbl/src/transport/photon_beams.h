@@ -1,4 +1,4 @@
-/* Progressive photon beams (photon-beams-radiance-estimation.txt eq 38, beam x beam 1D, biweight
+/* Progressive photon beams (Jarosz et al. 2011a, section 7.3, eq. 38, beam x beam 1D, biweight
  * kernel; transport/photon_beam_kernel.h), the `beams` render method, and the single-scattering
  * option of the `vbl` method.
  *

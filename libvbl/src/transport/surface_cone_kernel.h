@@ -1,5 +1,5 @@
-/* The VSL gather kernel of the surface transports (virtual-beam-lights.txt eq 9, Hasan et al.'s
- * virtual spherical lights for surface-to-surface, VBL section 3.4):
+/* The VSL gather kernel of the surface transports (Novak et al. 2012 (VBL), section 3.1, eq. 9;
+ * Hasan et al.'s virtual spherical lights for surface-to-surface, VBL section 3.4):
  *     K_R(x, c) = 1 / (pi R^2) * integral over omega in Omega_vsl of A(omega) B(omega) d omega,
  * Omega_vsl the cone of sampling/vsl_cone.h (the VSL of radius R centred at c seen from the
  * receiver x, half-angle asin(min(1, R / w)), the hemisphere for w <= R), omega the LIGHT-TRAVEL

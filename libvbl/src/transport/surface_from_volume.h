@@ -1,8 +1,8 @@
 /* surface_from_volume: light scattered by the media onto a camera-visible surface point, from one
- * virtual ray light (virtual-ray-lights.txt eq 6, section 4.3) or virtual beam light
- * (virtual-beam-lights.txt eqs 8-9, section 3.1). Pure kernels: the caller supplies the media
- * terms through a callback, so tests use homogeneous/no media and the renderer plugs in ratio
- * tracking plus surface occlusion.
+ * virtual ray light (Novak et al. 2012 (VRL), section 3, eq. 6, sampled as in section 4.3) or
+ * virtual beam light (Novak et al. 2012 (VBL), section 3.1, eqs. 8-9). Pure kernels: the caller
+ * supplies the media terms through a callback, so tests use homogeneous/no media and the
+ * renderer plugs in ratio tracking plus surface occlusion.
  *
  * Geometry and conventions: the VRL is l_o + v l_d, v in [0, length], carrying power Phi with
  * HG asymmetry g; the surface point x (shading normal n, material, wo towards the camera, all

@@ -1,4 +1,4 @@
-/* Surface virtual spherical lights (virtual-beam-lights.txt sections 3.3-3.4; Hasan et al.'s
+/* Surface virtual spherical lights (Novak et al. 2012 (VBL), sections 3.3-3.4; Hasan et al.'s
  * VSLs): photon hits on surfaces stored as VSLs, gathered
  *   - at camera-visible surface points: surface_from_surface (section 3.4), and
  *   - along camera-ray segments in the media: volume_from_surface (section 3.3, the dual of 3.1).

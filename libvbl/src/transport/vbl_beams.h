@@ -1,4 +1,4 @@
-/* Virtual beam lights, media-to-media (virtual-beam-lights.txt section 3.2, eq 10): the VRL
+/* Virtual beam lights, media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10): the VRL
  * estimator (transport/vrl.h) with every point of a VRL inflated into a volumetric VSL of radius
  * R_p, progressively shrunk per pass (eq 11, render/radius_schedule.h, d = 2).
  *

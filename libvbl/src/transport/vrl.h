@@ -1,4 +1,4 @@
-/* Virtual ray lights (Novak et al. 2012, virtual-ray-lights.txt): media-to-media transport from
+/* Virtual ray lights (Novak et al. 2012 (VRL), section 3): media-to-media transport from
  * photon path segments to whole camera rays, eq. (7):
  *   L = Phi int_u0^u1 int_0^len sigma_s(u) sigma_s(v) f(theta_u) f(theta_v) T_c(u) T_l(v) T(w)
  *                                  / w(u,v)^2 dv du

@@ -1,5 +1,5 @@
-/* Cached transmittance (virtual-ray-lights.txt sec. 6, after Jarosz et al. 2011b). Both kinds store
- * a non-increasing step function: T(t0, t) ~ value[i] for the last t[i] <= t (1 before t[0]).
+/* Cached transmittance (Novak et al. 2012 (VRL), section 6, after Jarosz et al. 2011b). Both kinds
+ * store a non-increasing step function: T(t0, t) ~ value[i] for the last t[i] <= t (1 before t[0]).
  *  - CACHED_DELTA: n independent Woodcock free-flight distances d_i (sorted; misses not stored);
  *    value[i] = (n - i - 1) / n, so T(t) ~ #(d_i > t) / n, unbiased since P(d > t) = T(t0, t).
  *  - CACHED_RATIO: one ratio-tracking pass (Novak et al. 2014) over [t0, t1]; t[i] are the

@@ -1,4 +1,4 @@
-/* Cached transmittance along a ray (virtual-ray-lights.txt section 6, after Jarosz et al. 2011b):
+/* Cached transmittance along a ray (Novak et al. 2012 (VRL), section 6, after Jarosz et al. 2011b):
  * one traversal stores a few tracked distances; afterwards T(t0, t) for any t in [t0, t1] is
  * estimated unbiasedly in O(log n).
  *  - VBL_TRANSMITTANCE_CACHED_DELTA: n independent Woodcock collision distances;
