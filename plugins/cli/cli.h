@@ -1,5 +1,5 @@
 /* The `vbl` command line: one file per sub-command, each `int vbl_cmd_NAME(int argc, char** argv)`
- * receiving argv[0] = the sub-command name. Exit codes are documented in README.md. */
+ * receiving argv[0] = the sub-command name. Exit codes are documented in docs/reference/cli.md. */
 #ifndef VBL_CLI_H
 #define VBL_CLI_H
 
