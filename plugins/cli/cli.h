@@ -22,6 +22,7 @@ int vbl_cmd_preview(int argc, char** argv);
 int vbl_cmd_diff(int argc, char** argv);
 int vbl_cmd_merge(int argc, char** argv);
 int vbl_cmd_farm(int argc, char** argv);
+int vbl_cmd_options(int argc, char** argv);
 
 /* Prints "vbl: <message>" for a failed library call and maps the result to an exit code. */
 int vbl_cli_fail(vbl_result result);

@@ -14,32 +14,19 @@
 #include "frames.h"
 #include "render_cli.h"
 
-/* Builds the render options: the scene's render block, then the preset, then the flags. */
-static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene* scene, vbl_render_method method,
-                                   vbl_transmittance_estimator estimator, vbl_render_options* options)
+/* Builds the render options: the scene's render block, then the preset, then the flags (checked
+ * by the options table's validator while parsing). */
+static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene* scene, vbl_render_options* options)
 {
     vbl_scene_render_options(scene, options);
     if (args->preset && vbl_render_options_apply_preset(args->preset, options)) {
         fprintf(stderr, "vbl render: --preset '%s' is not one of preview, production, final\n", args->preset);
         return VBL_EXIT_USAGE;
     }
-    if (args->method) options->method = method;
-    if (args->transmittance) options->transmittance = estimator;
-    if (args->passes > 0) options->passes = (int)args->passes;
-    if (args->spp > 0) options->spp = (int)args->spp;
-    if (args->light_paths >= 0) options->light_paths = (int)args->light_paths;
-    if (args->seed >= 0) options->seed = (uint64_t)args->seed;
-    if (args->time_limit >= 0.0) options->time_limit = args->time_limit;
-    if (args->max_bounces != LONG_MIN) options->max_bounces = (int)args->max_bounces;
-    if (args->vbl_radius0 > 0.0) options->vbl_radius0 = args->vbl_radius0;
-    if (args->vbl_alpha > 0.0) options->vbl_alpha = args->vbl_alpha;
-    if (args->beams_radius0 > 0.0) options->beams_radius0 = args->beams_radius0;
-    if (args->beams_alpha > 0.0) options->beams_alpha = args->beams_alpha;
-    if (args->vbl_single_scattering > 0) options->vbl_single_scattering = args->vbl_single_scattering;
-    if (args->vsl_placement > 0) options->vsl_placement = args->vsl_placement - 1;
-    if (args->vsl_path_extension > 0) options->vsl_path_extension = args->vsl_path_extension;
-    if (args->vsl_lights > 0) options->vsl_lights = args->vsl_lights;
-    options->threads = (int)args->threads;
+    for (int i = 0; i < vbl_render_option_count(); ++i)
+        if (args->option_values[i] &&
+            vbl_render_option_set_strict(options, vbl_render_option_desc(i)->name, args->option_values[i]))
+            return vbl_cli_fail(VBL_ERROR_INVALID_ARGUMENT);
     if (args->pass_first >= 0) {
         options->first_pass = (int)args->pass_first;
         options->passes = (int)(args->pass_last - args->pass_first + 1);
@@ -59,8 +46,7 @@ static int vbl_render_fail(vbl_progress* progress, vbl_result r)
 }
 
 /* One output file (one frame). */
-static int vbl_render_one(const vbl_render_args* args, vbl_render_method method, vbl_transmittance_estimator estimator,
-                          vbl_progress* progress)
+static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
 {
     vbl_render_output* output = NULL;
     vbl_result r = vbl_render_output_create(args, &output);
@@ -83,7 +69,7 @@ static int vbl_render_one(const vbl_render_args* args, vbl_render_method method,
     vbl_render_output_set_scene(output, scene);
 
     vbl_render_options options = VBL_RENDER_OPTIONS_DEFAULT;
-    int code = vbl_render_make_options(args, scene, method, estimator, &options);
+    int code = vbl_render_make_options(args, scene, &options);
     const int total = options.passes, range_first = options.first_pass;
     int base_passes = 0;
     vbl_exr_image* base = NULL;
@@ -186,16 +172,6 @@ int vbl_cmd_render(int argc, char** argv)
     int code = vbl_render_parse_args(argc, argv, &args);
     if (code >= 0) return code;
 
-    vbl_render_method method = VBL_RENDER_PT;
-    if (args.method && vbl_render_method_parse(args.method, &method)) {
-        fprintf(stderr, "vbl render: --method '%s' is not one of pt, vpl, vrl, vbl, beams\n", args.method);
-        return VBL_EXIT_USAGE;
-    }
-    vbl_transmittance_estimator estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;
-    if (args.transmittance && vbl_transmittance_estimator_parse(args.transmittance, &estimator)) {
-        fprintf(stderr, "vbl render: --transmittance '%s' is not a transmittance estimator\n", args.transmittance);
-        return VBL_EXIT_USAGE;
-    }
     if (args.preset) {
         vbl_render_options probe = VBL_RENDER_OPTIONS_DEFAULT;
         if (vbl_render_options_apply_preset(args.preset, &probe)) {
@@ -260,7 +236,7 @@ int vbl_cmd_render(int argc, char** argv)
         progress.frame = fa.frame;
         progress.has_frame = fa.has_frame;
         progress.output = fa.output;
-        int frame_code = vbl_render_one(&fa, method, estimator, &progress);
+        int frame_code = vbl_render_one(&fa, &progress);
         ++rendered;
         if (frame_code == VBL_EXIT_OK && vbl_render_interrupted()) frame_code = VBL_EXIT_INTERRUPTED;
         if (frame_code != VBL_EXIT_OK) {

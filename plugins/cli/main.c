@@ -18,6 +18,7 @@ static const vbl_cli_command vbl_cli_commands[] = {
     {"diff", vbl_cmd_diff, "per-layer error (rMAE, RMSE, max) of an EXR against a reference"},
     {"merge", vbl_cmd_merge, "combine EXRs of disjoint pass ranges (vbl render --pass-range) into one"},
     {"farm", vbl_cmd_farm, "submit a render to Slurm as an array job of pass ranges plus a merge job"},
+    {"options", vbl_cmd_options, "list the render options (scene keys, flags, ranges, defaults; --markdown)"},
 };
 
 static void vbl_cli_print_help(FILE* out)

@@ -9,24 +9,18 @@
 #include "vbl_exr.h"
 
 #define VBL_RENDER_CLI_MAX_VDB 8
+#define VBL_RENDER_CLI_MAX_OPTIONS 128
 
 /* The command line of `vbl render`, as parsed (negative numbers: not given). */
 typedef struct vbl_render_args {
     const char* scene_path;
     const char* output;
     const char* preview;
-    const char* method;
-    const char* transmittance;
     const char* vdb[VBL_RENDER_CLI_MAX_VDB];
     int vdb_count;
-    long passes, spp, light_paths, threads, max_bounces, seed; /* max_bounces: LONG_MIN = not given */
-    double time_limit;                                          /* < 0: not given */
-    double vbl_radius0, vbl_alpha;                              /* --vbl-radius0/--vbl-alpha; < 0: not given */
-    double beams_radius0, beams_alpha;                          /* --beams-radius0/--beams-alpha; < 0: not given */
-    int vbl_single_scattering;                                  /* --vbl-single-scattering: 0 not given, 1, 2 */
-    int vsl_placement;          /* --vsl-placement: 0 not given, 1 light_paths, 2 blue_noise */
-    int vsl_path_extension;     /* --vsl-path-extension: 0 not given, else VBL_VSL_PATH_EXTENSION_ON/_OFF */
-    int vsl_lights;             /* --vsl-lights: 0 not given */
+    /* The render options' flags (options table: --passes, --vbl-alpha, ...), by table index, as
+     * given and already checked by vbl_render_option_set_strict; NULL: not given. */
+    const char* option_values[VBL_RENDER_CLI_MAX_OPTIONS];
     int quiet;
     /* EXR storage */
     int half_all;                 /* --half: every colour layer (beauty, transport, variance) as HALF */

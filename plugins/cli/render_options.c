@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "options_doc.h"
 #include "render_cli.h"
 
 static void vbl_render_usage(FILE* out)
@@ -17,29 +18,9 @@ static void vbl_render_usage(FILE* out)
             "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
             "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
             "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
-            "  --method pt|vpl|vrl|vbl|beams  rendering method\n"
-            "  --passes N                 progressive passes (N >= 1)\n"
-            "  --spp N                    camera samples per pixel per pass (N >= 1)\n"
-            "  --light-paths N            light paths per pass (vpl, vrl, vbl)\n"
-            "  --vbl-radius0 R            vbl: initial VSL radius in world units (default: from the scene's\n"
-            "                             size and the VRL density)\n"
-            "  --vbl-alpha A              vbl: radius reduction per pass, A in (0, 1) (default 0.7)\n"
-            "  --vbl-single-scattering equiangular|beams\n"
-            "                             vbl: volume_direct by equiangular sampling (default) or photon beams\n"
-            "  --vsl-placement light_paths|blue_noise\n"
-            "                             vpl, vrl, vbl: surface VSLs for surface_from_surface from light paths\n"
-            "                             (default) or camera-driven blue-noise placement\n"
-            "  --vsl-path-extension on|off\n"
-            "                             blue_noise: the adaptive camera path extension (default on)\n"
-            "  --vsl-lights N             blue_noise: virtual lights per pass (default 1024)\n"
-            "  --beams-radius0 R          beams (and vbl with beam single scattering): initial beam\n"
-            "                             half-width in world units (default: from the scene and beam density)\n"
-            "  --beams-alpha A            beam width reduction per pass, A in (0, 1] (default 0.7)\n"
-            "  --seed S                   random seed (integer >= 0)\n"
-            "  --time-limit SEC           stop after the pass that exceeds SEC seconds (0: none)\n"
-            "  --max-bounces N            scattering events per path (-1: unlimited)\n"
-            "  --transmittance NAME       delta|ratio|residual|march|cached-delta|cached-ratio\n"
-            "  --threads N                worker threads (0: all cores)\n"
+            "Render options (the scene's \"render\" block; 'vbl options' lists them, docs: options table):\n");
+    vbl_options_doc_help(out);
+    fprintf(out,
             "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
             "Output file:\n"
             "  --aov LIST                 extra layers, comma-separated: z, samples, variance, all\n"
@@ -142,18 +123,18 @@ static int vbl_parse_aovs(const char* text, vbl_render_args* args)
 int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
 {
     memset(args, 0, sizeof *args);
-    args->passes = args->spp = args->light_paths = args->seed = -1;
-    args->max_bounces = LONG_MIN;
-    args->time_limit = -1.0;
-    args->vbl_radius0 = args->vbl_alpha = -1.0;
-    args->beams_radius0 = args->beams_alpha = -1.0;
     args->compression = -1;
+    if (vbl_render_option_count() > VBL_RENDER_CLI_MAX_OPTIONS) {
+        fprintf(stderr, "vbl render: %d render options, more than VBL_RENDER_CLI_MAX_OPTIONS\n",
+                vbl_render_option_count());
+        return VBL_EXIT_FAILURE;
+    }
     args->pass_first = args->pass_last = -1;
 
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         const char* v = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = 1, ok = 1;
+        int takes = 1, ok = 1, option = -1;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             vbl_render_usage(stdout);
             return VBL_EXIT_OK;
@@ -185,39 +166,17 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             return VBL_EXIT_USAGE;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) args->output = v;
         else if (!strcmp(a, "--preview")) args->preview = v;
-        else if (!strcmp(a, "--method")) args->method = v;
-        else if (!strcmp(a, "--transmittance")) args->transmittance = v;
-        else if (!strcmp(a, "--passes")) ok = vbl_parse_long(v, 1, INT_MAX, &args->passes);
-        else if (!strcmp(a, "--spp")) ok = vbl_parse_long(v, 1, INT_MAX, &args->spp);
-        else if (!strcmp(a, "--light-paths")) ok = vbl_parse_long(v, 0, INT_MAX, &args->light_paths);
-        else if (!strcmp(a, "--seed")) ok = vbl_parse_long(v, 0, LONG_MAX, &args->seed);
-        else if (!strcmp(a, "--threads")) ok = vbl_parse_long(v, 0, 4096, &args->threads);
-        else if (!strcmp(a, "--max-bounces")) ok = vbl_parse_long(v, -1, INT_MAX, &args->max_bounces);
-        else if (!strcmp(a, "--time-limit")) ok = vbl_parse_double(v, 0.0, 1e12, &args->time_limit);
-        else if (!strcmp(a, "--vbl-radius0"))
-            ok = vbl_parse_double(v, 0.0, 1e300, &args->vbl_radius0) && args->vbl_radius0 > 0.0;
-        else if (!strcmp(a, "--vbl-alpha"))
-            ok = vbl_parse_double(v, 0.0, 1.0, &args->vbl_alpha) && args->vbl_alpha > 0.0 && args->vbl_alpha < 1.0;
-        else if (!strcmp(a, "--beams-radius0"))
-            ok = vbl_parse_double(v, 0.0, 1e300, &args->beams_radius0) && args->beams_radius0 > 0.0;
-        else if (!strcmp(a, "--beams-alpha"))
-            ok = vbl_parse_double(v, 0.0, 1.0, &args->beams_alpha) && args->beams_alpha > 0.0;
-        else if (!strcmp(a, "--vbl-single-scattering")) {
-            ok = !strcmp(v, "equiangular") || !strcmp(v, "beams");
-            if (ok) args->vbl_single_scattering = !strcmp(v, "beams") ? 2 : 1;
-        }
-        else if (!strcmp(a, "--vsl-placement")) {
-            ok = !strcmp(v, "light_paths") || !strcmp(v, "blue_noise");
-            if (ok) args->vsl_placement = !strcmp(v, "blue_noise") ? 2 : 1;
-        }
-        else if (!strcmp(a, "--vsl-lights")) {
-            long n = 0;
-            ok = vbl_parse_long(v, 1, 10000000, &n);
-            if (ok) args->vsl_lights = (int)n;
-        }
-        else if (!strcmp(a, "--vsl-path-extension")) {
-            ok = !strcmp(v, "on") || !strcmp(v, "off");
-            if (ok) args->vsl_path_extension = !strcmp(v, "on") ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
+        else if ((option = vbl_render_option_find(a)) >= 0 && vbl_render_option_desc(option)->flag &&
+                 !strcmp(vbl_render_option_desc(option)->flag, a)) {
+            /* the library's validator, as scene files use it */
+            vbl_render_options probe = VBL_RENDER_OPTIONS_DEFAULT;
+            if (vbl_render_option_set_strict(&probe, vbl_render_option_desc(option)->name, v)) {
+                fprintf(stderr, "vbl render: invalid value '%s' for %s: %s (see 'vbl render --help')\n", v, a,
+                        vbl_last_error_message());
+                vbl_clear_error();
+                return VBL_EXIT_USAGE;
+            }
+            args->option_values[option] = v;
         }
         else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
         else if (!strcmp(a, "--half-layers")) args->half_layers = v;
@@ -262,9 +221,11 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
         vbl_render_usage(stderr);
         return VBL_EXIT_USAGE;
     }
-    if (args->pass_first >= 0 && args->passes > 0 && args->pass_last >= args->passes) {
+    const char* passes_text = args->option_values[vbl_render_option_find("passes")];
+    long passes = passes_text ? atol(passes_text) : -1;
+    if (args->pass_first >= 0 && passes > 0 && args->pass_last >= passes) {
         fprintf(stderr, "vbl render: --pass-range %ld-%ld goes past --passes %ld (passes are 0..%ld)\n",
-                args->pass_first, args->pass_last, args->passes, args->passes - 1);
+                args->pass_first, args->pass_last, passes, passes - 1);
         return VBL_EXIT_USAGE;
     }
     if (args->keep_going && !args->frames) {

@@ -454,28 +454,6 @@ static vbl_result vbl_render_layers_merge_base(const vbl_render_output* o, vbl_r
     return r;
 }
 
-/* FNV-1a 64 of the render settings that change pixels (beyond method, spp, light paths, seed,
- * which are attributes of their own): two files merge only if these agree. A field added to
- * vbl_render_options that changes pixels belongs here too. */
-static void vbl_render_options_hash(const vbl_render_options* op, char out[40])
-{
-    char text[1024];
-    snprintf(text, sizeof text,
-             "max_bounces=%d;transmittance=%d;mis=%d;vrl_samples=%d;vrl_long=%d;vrl_connect_march=%d;"
-             "vrl_march_step=%.17g;vrl_prune_radius=%.17g;vrl_prune_min_probability=%.17g;"
-             "vpl_clamp_distance=%.17g;vbl_radius0=%.17g;vbl_alpha=%.17g;vbl_single_scattering=%d;"
-             "beams_radius0=%.17g;beams_alpha=%.17g;vsl_placement=%d;vsl_path_extension=%d;vsl_lights=%d",
-             op->max_bounces, (int)op->transmittance, (int)op->mis, op->vrl_samples, op->vrl_long,
-             op->vrl_connect_march, op->vrl_march_step, op->vrl_prune_radius, op->vrl_prune_min_probability,
-             op->vpl_clamp_distance, op->vbl_radius0, op->vbl_alpha, op->vbl_single_scattering, op->beams_radius0,
-             op->beams_alpha, op->vsl_placement,
-             op->vsl_path_extension == VBL_VSL_PATH_EXTENSION_OFF ? 0 : 1,
-             op->vsl_lights > 0 ? op->vsl_lights : VBL_VSL_LIGHTS_DEFAULT);
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (const char* p = text; *p; ++p) h = (h ^ (unsigned char)*p) * 0x100000001b3ull;
-    snprintf(out, 40, "fnv1a64:%016llx", (unsigned long long)h);
-}
-
 #define VBL_RENDER_MAX_ATTRS 32
 
 /* The EXR header attributes (docs/readme/output.md, "Metadata"; docs/readme/pipeline.md). */
@@ -508,7 +486,7 @@ static void vbl_render_meta_make(const vbl_render_output* o, const vbl_film_stat
     memset(m, 0, sizeof *m);
     snprintf(m->software, sizeof m->software, "vbl %s", vbl_version_string());
     snprintf(m->seed, sizeof m->seed, "%llu", (unsigned long long)stats->seed);
-    vbl_render_options_hash(options, m->options_hash);
+    vbl_render_options_hash(options, m->options_hash, sizeof m->options_hash);
     vbl_render_meta_add(m, "software", m->software, S, 0, 0.0);
     vbl_render_meta_add(m, "vbl:version", vbl_version_string(), S, 0, 0.0);
     vbl_render_meta_add(m, "vbl:scene", a->scene_path, S, 0, 0.0);

@@ -306,7 +306,7 @@ static void test_scene_block(void** state)
     assert_int_equal(o.vbl_single_scattering, 1);
     vbl_scene_release(scene);
     expect_scene_error(dir, "{\"beams\": {\"alpha\": 1}}", "render.beams.alpha = 1 is outside (0, 1)");
-    expect_scene_error(dir, "{\"beams\": {\"radius0\": 0}}", "render.beams.radius0 = 0 must be a finite number > 0");
+    expect_scene_error(dir, "{\"beams\": {\"radius0\": 0}}", "render.beams.radius0 = 0 is outside (0, inf)");
     expect_scene_error(dir, "{\"beams\": {\"width\": 2}}", "unknown key 'render.beams.width'");
     expect_scene_error(dir, "{\"vbl\": {\"single_scattering\": \"magic\"}}",
                        "render.vbl.single_scattering = \"magic\" is not one of equiangular, beams");

@@ -146,7 +146,7 @@ static void test_scene_block(void** state)
     vbl_scene_release(scene);
     expect_scene_error(dir, "{\"vbl\": {\"alpha\": 1}}", "render.vbl.alpha = 1 is outside (0, 1)");
     expect_scene_error(dir, "{\"vbl\": {\"alpha\": 0}}", "render.vbl.alpha = 0 is outside (0, 1)");
-    expect_scene_error(dir, "{\"vbl\": {\"radius0\": -2}}", "render.vbl.radius0 = -2 must be a finite number > 0");
+    expect_scene_error(dir, "{\"vbl\": {\"radius0\": -2}}", "render.vbl.radius0 = -2 is outside (0, inf)");
     expect_scene_error(dir, "{\"vbl\": {\"radius\": 2}}", "unknown key 'render.vbl.radius'");
     rt_remove_dir(dir);
 }

@@ -14,6 +14,7 @@
 
 #include "vbl/vbl_core.h"
 #include "vbl/vbl_volume.h"
+#include "vbl/vbl_render_options.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -82,100 +83,11 @@ VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
  * or NULL when the scene names none (colours are already scene_linear). */
 VBL_API const char* vbl_scene_color_space(const vbl_scene* scene);
 
-/* ---- render options -------------------------------------------------------------------- */
-
-typedef enum vbl_render_method {
-    VBL_RENDER_PT = 0,  /* volumetric path tracer (reference) */
-    VBL_RENDER_VPL = 1, /* virtual point lights */
-    VBL_RENDER_VRL = 2, /* virtual ray lights */
-    VBL_RENDER_VBL = 3, /* virtual beam lights (media-to-media, progressive radius) */
-    VBL_RENDER_BEAMS = 4 /* progressive photon beams (beam x beam 1D, progressive width) */
-} vbl_render_method;
+/* ---- render options (the table, the struct and its reflection: vbl/vbl_render_options.h) ----- */
 
 /* "pt", "vpl", "vrl", "vbl", "beams"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
 VBL_API const char* vbl_render_method_name(vbl_render_method method);
 VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out);
-
-typedef enum vbl_mis_heuristic {
-    VBL_MIS_POWER = 0,   /* power heuristic, beta = 2 (default) */
-    VBL_MIS_BALANCE = 1
-} vbl_mis_heuristic;
-
-/* Reported after every pass; return non-zero from the callback to stop after that pass. */
-typedef struct vbl_render_progress {
-    int pass;               /* passes completed so far (1 after the first) */
-    int passes;             /* passes requested */
-    double elapsed_seconds; /* since vbl_render started */
-    double pass_seconds;    /* the pass just finished */
-    uint64_t samples_per_pixel; /* camera samples per pixel so far */
-    int first_pass;         /* options.first_pass: the absolute index of this render's first pass */
-    const void* driver;     /* opaque: for vbl_render_snapshot inside the callback */
-} vbl_render_progress;
-
-typedef int (*vbl_render_pass_callback)(const vbl_render_progress* progress, void* user_data);
-
-typedef struct vbl_render_options {
-    size_t size;                       /* sizeof(vbl_render_options) */
-    vbl_render_method method;
-    int passes;                        /* >= 1: independent progressive passes */
-    int spp;                           /* >= 1: camera samples per pixel per pass */
-    int light_paths;                   /* >= 0: light paths per pass (vpl, vrl) */
-    uint64_t seed;
-    double time_limit;                 /* seconds; stop after the pass that exceeds it; <= 0 none */
-    int threads;                       /* 0: OpenMP default */
-    int max_bounces;                   /* max scattering events per path; -1 unlimited */
-    vbl_transmittance_estimator transmittance; /* shadow rays and camera-ray transmittance */
-    vbl_mis_heuristic mis;
-    vbl_render_pass_callback callback; /* may be NULL */
-    void* callback_user_data;
-    /* ---- estimator settings (scene file: render.vrl / render.vpl; docs/readme/vrl.md). A zero
-     * in vrl_samples or vrl_prune_min_probability means the default (1, 0.1), so initializers
-     * written before these fields existed keep working. */
-    int vrl_samples;                   /* >= 0: (u, v) samples per VRL / camera-ray pair */
-    int vrl_long;                      /* 0/1: long VRLs (to the media exit, cached transmittance) */
-    int vrl_connect_march;             /* 0/1: ray-march the VRL-to-camera-ray segment (biased) */
-    double vrl_march_step;             /* >= 0 world units for vrl_connect_march; 0: adaptive */
-    double vrl_prune_radius;           /* >= 0: Russian-roulette pruning radius as a fraction of the
-                                          media's bounding radius (unbiased); 0: off */
-    double vrl_prune_min_probability;  /* [0, 1]: floor of the pruning survival probability */
-    double vpl_clamp_distance;         /* >= 0 world units: 1/w^2 -> 1/max(w^2, c^2) (biased); 0: off */
-    double vbl_radius0; /* world units; 0: default from scene scale and VRL density */
-    double vbl_alpha;   /* (0,1); 0: 0.7 */
-    /* Split rendering (render farms): this render runs the absolute passes first_pass ..
-     * first_pass + passes - 1, with exactly the seeds (and, for vbl, the radii) a single render of
-     * first_pass + passes passes would use for them; films of disjoint pass ranges merge into
-     * the single render's film, weighted by pass count. */
-    int first_pass;     /* >= 0 */
-    /* ---- photon beams (scene file: render.beams, render.vbl.single_scattering; docs/readme/beams.md) */
-    int vbl_single_scattering; /* vbl's volume_direct: 0 default, 1 equiangular, 2 photon beams */
-    double beams_radius0;      /* photon beam half-width R_0, world units; 0: default from scene and beams */
-    double beams_alpha;        /* (0,1): width reduction (eq 11, d = 1); 0: 0.7 */
-    /* ---- surface VSL placement for surface_from_surface of vpl/vrl/vbl (scene file:
-     * render.vsl_placement; docs/readme/blue_noise.md) */
-    int vsl_placement; /* VBL_VSL_PLACEMENT_LIGHT_PATHS (0, default) or VBL_VSL_PLACEMENT_BLUE_NOISE (1) */
-    /* blue_noise only (scene file: render.vsl_path_extension): the adaptive camera path extension
-     * of Li et al. 2022, section 4.2, eqs. 6-9. VBL_VSL_PATH_EXTENSION_DEFAULT (0) = ON (1);
-     * OFF (2): virtual lights only (w_v = 1, no extension; biased near the lights, cheaper). */
-    int vsl_path_extension;
-    /* blue_noise only (render.vsl_lights): N virtual lights per pass, from 10 N camera
-     * candidates, lit by 10 N light paths split among them; 0: VBL_VSL_LIGHTS_DEFAULT. The
-     * light-path stores of the volume classes keep using light_paths. */
-    int vsl_lights;
-} vbl_render_options;
-
-#define VBL_VSL_LIGHTS_DEFAULT 1024
-
-#define VBL_VSL_PATH_EXTENSION_DEFAULT 0
-#define VBL_VSL_PATH_EXTENSION_ON 1
-#define VBL_VSL_PATH_EXTENSION_OFF 2
-
-#define VBL_VSL_PLACEMENT_LIGHT_PATHS 0
-#define VBL_VSL_PLACEMENT_BLUE_NOISE 1
-
-#define VBL_RENDER_OPTIONS_DEFAULT                                                              \
-    {sizeof(vbl_render_options), VBL_RENDER_PT, 16, 4, 10000, 0, 0.0, 0, -1,                  \
-     VBL_TRANSMITTANCE_RATIO_TRACKING, VBL_MIS_POWER, NULL, NULL,                             \
-     1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0, 0, 0}
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
  * fields it leaves out); callback, threads and size are kept as they are. */

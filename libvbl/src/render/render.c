@@ -13,79 +13,11 @@
 
 #define VBL_TILE 16
 
+/* The options table's validator (render/options.c) plus the scene. */
 static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_options* o)
 {
     if (!scene || !o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
-    if (o->size < sizeof(vbl_render_options))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: options.size is too small");
-    if ((unsigned)o->method > (unsigned)VBL_RENDER_BEAMS)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown method %d", (int)o->method);
-    if (o->passes < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: passes = %d must be >= 1", o->passes);
-    if (o->spp < 1) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: spp = %d must be >= 1", o->spp);
-    if (o->light_paths < 0)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: light_paths = %d must be >= 0", o->light_paths);
-    if (o->threads < 0) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: threads = %d must be >= 0", o->threads);
-    if (o->max_bounces < -1)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: max_bounces = %d must be >= -1", o->max_bounces);
-    if (!(o->time_limit >= 0.0) && !(o->time_limit <= 0.0))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: time_limit is NaN");
-    if ((unsigned)o->transmittance > (unsigned)VBL_TRANSMITTANCE_CACHED_RATIO)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown transmittance estimator %d",
-                         (int)o->transmittance);
-    if (o->mis != VBL_MIS_POWER && o->mis != VBL_MIS_BALANCE)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: unknown MIS heuristic %d", (int)o->mis);
-    if (o->vrl_samples < 0)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_samples = %d must be >= 0 (0: default 1)",
-                         o->vrl_samples);
-    if (o->vrl_long != 0 && o->vrl_long != 1)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_long = %d must be 0 or 1", o->vrl_long);
-    if (o->vrl_connect_march != 0 && o->vrl_connect_march != 1)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_connect_march = %d must be 0 or 1",
-                         o->vrl_connect_march);
-    if (!(o->vrl_march_step >= 0.0 && isfinite(o->vrl_march_step)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_march_step = %g must be finite and >= 0",
-                         o->vrl_march_step);
-    if (!(o->vrl_prune_radius >= 0.0 && isfinite(o->vrl_prune_radius)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vrl_prune_radius = %g must be finite and >= 0",
-                         o->vrl_prune_radius);
-    if (!(o->vrl_prune_min_probability >= 0.0 && o->vrl_prune_min_probability <= 1.0))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                         "vbl_render: vrl_prune_min_probability = %g is outside [0, 1] (0: default 0.1)",
-                         o->vrl_prune_min_probability);
-    if (!(o->vpl_clamp_distance >= 0.0 && isfinite(o->vpl_clamp_distance)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vpl_clamp_distance = %g must be finite and >= 0",
-                         o->vpl_clamp_distance);
-    if (!(o->vbl_radius0 >= 0.0 && isfinite(o->vbl_radius0)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_radius0 = %g must be finite and >= 0 (0: default)",
-                         o->vbl_radius0);
-    if (o->first_pass < 0)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: first_pass = %d must be >= 0", o->first_pass);
-    if ((long long)o->first_pass + (long long)o->passes > 0x7fffffffLL)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: first_pass + passes overflows");
-    if (!(o->vbl_alpha >= 0.0 && o->vbl_alpha < 1.0))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_alpha = %g is outside (0, 1) (0: default 0.7)",
-                         o->vbl_alpha);
-    if (o->vbl_single_scattering < 0 || o->vbl_single_scattering > 2)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                         "vbl_render: vbl_single_scattering = %d must be 0 (default), 1 (equiangular) or 2 (beams)",
-                         o->vbl_single_scattering);
-    if (!(o->beams_radius0 >= 0.0 && isfinite(o->beams_radius0)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                         "vbl_render: beams_radius0 = %g must be finite and >= 0 (0: default)", o->beams_radius0);
-    if (!(o->beams_alpha >= 0.0 && o->beams_alpha < 1.0))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: beams_alpha = %g is outside (0, 1) (0: default 0.7)",
-                         o->beams_alpha);
-    if (o->vsl_placement != VBL_VSL_PLACEMENT_LIGHT_PATHS && o->vsl_placement != VBL_VSL_PLACEMENT_BLUE_NOISE)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                         "vbl_render: vsl_placement = %d must be 0 (light_paths) or 1 (blue_noise)", o->vsl_placement);
-    if (o->vsl_path_extension < 0 || o->vsl_path_extension > VBL_VSL_PATH_EXTENSION_OFF)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                         "vbl_render: vsl_path_extension = %d must be 0 (default), 1 (on) or 2 (off)",
-                         o->vsl_path_extension);
-    if (o->vsl_lights < 0 || o->vsl_lights > 10000000)
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vsl_lights = %d is outside [0, 1e7] (0: default %d)",
-                         o->vsl_lights, VBL_VSL_LIGHTS_DEFAULT);
-    return VBL_SUCCESS;
+    return vbl_render_options_validate(o);
 }
 
 /* Single estimates of T need an uncached estimator; the cached kinds map to their counterparts

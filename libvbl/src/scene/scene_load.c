@@ -13,6 +13,7 @@
 #include "scene/scene.h"
 #include "scene/scene_build.h"
 #include "scene/scene_frame.h"
+#include "scene/scene_render_block.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"
 
@@ -293,190 +294,6 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     return VBL_SUCCESS;
 }
 
-/* Optional boolean `key` of `parent`: keeps *out when absent. */
-static vbl_result vbl_parse_bool(const vbl_json_ctx* ctx, const cJSON* parent, const char* parent_field,
-                                 const char* key, int* out)
-{
-    const cJSON* item = cJSON_GetObjectItemCaseSensitive(parent, key);
-    if (!item) return VBL_SUCCESS;
-    if (!cJSON_IsBool(item)) return vbl_json_fail(ctx, "%s.%s must be true or false", parent_field, key);
-    *out = cJSON_IsTrue(item) ? 1 : 0;
-    return VBL_SUCCESS;
-}
-
-/* Optional finite number in [lo, hi] (hi may be INFINITY). */
-static vbl_result vbl_parse_range(const vbl_json_ctx* ctx, const cJSON* parent, const char* parent_field,
-                                  const char* key, double lo, double hi, const char* range, double* out)
-{
-    double v = *out;
-    vbl_result r = vbl_json_number(ctx, parent, parent_field, key, 0, &v);
-    if (r) return r;
-    if (!(v >= lo && v <= hi && isfinite(v)))
-        return vbl_json_fail(ctx, "%s.%s = %g is outside %s", parent_field, key, v, range);
-    *out = v;
-    return VBL_SUCCESS;
-}
-
-/* render.vrl: {"samples", "long", "connect": "ratio"|"march", "march_step", "prune_radius",
- * "prune_min_probability"}; render.vpl: {"clamp_distance"} (docs/readme/vrl.md). */
-static vbl_result vbl_parse_estimator_settings(const vbl_json_ctx* ctx, const cJSON* render, vbl_render_options* o)
-{
-    static const char* const vrl_keys[] = {"samples", "long", "connect", "march_step", "prune_radius",
-                                           "prune_min_probability", NULL};
-    static const char* const vpl_keys[] = {"clamp_distance", NULL};
-    const cJSON* obj = NULL;
-    vbl_result r;
-    if ((r = vbl_json_object(ctx, render, "render", "vrl", 0, &obj))) return r;
-    if (obj) {
-        if ((r = vbl_json_check_keys(ctx, obj, "render.vrl", vrl_keys))) return r;
-        double v = o->vrl_samples > 0 ? o->vrl_samples : 1;
-        if ((r = vbl_json_int(ctx, obj, "render.vrl", "samples", 0, 1, 1e6, &v))) return r;
-        o->vrl_samples = (int)v;
-        if ((r = vbl_parse_bool(ctx, obj, "render.vrl", "long", &o->vrl_long))) return r;
-        const char* s = NULL;
-        if ((r = vbl_json_string(ctx, obj, "render.vrl", "connect", 0, &s))) return r;
-        if (s) {
-            if (!strcmp(s, "ratio"))
-                o->vrl_connect_march = 0;
-            else if (!strcmp(s, "march"))
-                o->vrl_connect_march = 1;
-            else
-                return vbl_json_fail(ctx, "render.vrl.connect = \"%s\" is not one of ratio, march", s);
-        }
-        if ((r = vbl_parse_range(ctx, obj, "render.vrl", "march_step", 0.0, INFINITY, "[0, inf)", &o->vrl_march_step)))
-            return r;
-        if ((r = vbl_parse_range(ctx, obj, "render.vrl", "prune_radius", 0.0, INFINITY, "[0, inf)",
-                                 &o->vrl_prune_radius)))
-            return r;
-        double q = o->vrl_prune_min_probability > 0.0 ? o->vrl_prune_min_probability : 0.1;
-        if ((r = vbl_json_number(ctx, obj, "render.vrl", "prune_min_probability", 0, &q))) return r;
-        if (!(q > 0.0 && q <= 1.0))
-            return vbl_json_fail(ctx, "render.vrl.prune_min_probability = %g is outside (0, 1]", q);
-        o->vrl_prune_min_probability = q;
-    }
-    obj = NULL;
-    if ((r = vbl_json_object(ctx, render, "render", "vpl", 0, &obj))) return r;
-    if (obj) {
-        if ((r = vbl_json_check_keys(ctx, obj, "render.vpl", vpl_keys))) return r;
-        if ((r = vbl_parse_range(ctx, obj, "render.vpl", "clamp_distance", 0.0, INFINITY, "[0, inf)",
-                                 &o->vpl_clamp_distance)))
-            return r;
-    }
-    /* render.vbl: {"radius0" (world units, > 0), "alpha" in (0, 1),
-     * "single_scattering": "equiangular" | "beams"} (docs/readme/beams.md) */
-    static const char* const vbl_keys[] = {"radius0", "alpha", "single_scattering", NULL};
-    obj = NULL;
-    if ((r = vbl_json_object(ctx, render, "render", "vbl", 0, &obj))) return r;
-    if (obj) {
-        if ((r = vbl_json_check_keys(ctx, obj, "render.vbl", vbl_keys))) return r;
-        double v = o->vbl_radius0;
-        if ((r = vbl_json_number(ctx, obj, "render.vbl", "radius0", 0, &v))) return r;
-        if (cJSON_HasObjectItem(obj, "radius0") && !(v > 0.0 && isfinite(v)))
-            return vbl_json_fail(ctx, "render.vbl.radius0 = %g must be a finite number > 0", v);
-        o->vbl_radius0 = v;
-        v = o->vbl_alpha;
-        if ((r = vbl_json_number(ctx, obj, "render.vbl", "alpha", 0, &v))) return r;
-        if (cJSON_HasObjectItem(obj, "alpha") && !(v > 0.0 && v < 1.0))
-            return vbl_json_fail(ctx, "render.vbl.alpha = %g is outside (0, 1)", v);
-        o->vbl_alpha = v;
-        const char* ss = NULL;
-        if ((r = vbl_json_string(ctx, obj, "render.vbl", "single_scattering", 0, &ss))) return r;
-        if (ss) {
-            if (!strcmp(ss, "equiangular"))
-                o->vbl_single_scattering = 1;
-            else if (!strcmp(ss, "beams"))
-                o->vbl_single_scattering = 2;
-            else
-                return vbl_json_fail(ctx, "render.vbl.single_scattering = \"%s\" is not one of equiangular, beams", ss);
-        }
-    }
-    /* render.beams: {"radius0" (world units, > 0), "alpha" in (0, 1)} (docs/readme/beams.md) */
-    static const char* const beams_keys[] = {"radius0", "alpha", NULL};
-    obj = NULL;
-    if ((r = vbl_json_object(ctx, render, "render", "beams", 0, &obj))) return r;
-    if (obj) {
-        if ((r = vbl_json_check_keys(ctx, obj, "render.beams", beams_keys))) return r;
-        double v = o->beams_radius0;
-        if ((r = vbl_json_number(ctx, obj, "render.beams", "radius0", 0, &v))) return r;
-        if (cJSON_HasObjectItem(obj, "radius0") && !(v > 0.0 && isfinite(v)))
-            return vbl_json_fail(ctx, "render.beams.radius0 = %g must be a finite number > 0", v);
-        o->beams_radius0 = v;
-        v = o->beams_alpha;
-        if ((r = vbl_json_number(ctx, obj, "render.beams", "alpha", 0, &v))) return r;
-        if (cJSON_HasObjectItem(obj, "alpha") && !(v > 0.0 && v < 1.0))
-            return vbl_json_fail(ctx, "render.beams.alpha = %g is outside (0, 1)", v);
-        o->beams_alpha = v;
-    }
-    return VBL_SUCCESS;
-}
-
-static vbl_result vbl_parse_render(const vbl_json_ctx* ctx, const cJSON* root, vbl_render_options* o)
-{
-    static const char* const keys[] = {"method", "passes", "spp", "light_paths", "seed", "time_limit",
-                                       "max_bounces", "transmittance", "mis", "vrl", "vpl", "vbl", "beams",
-                                       "vsl_placement", "vsl_path_extension", "vsl_lights", NULL};
-    const cJSON* obj = NULL;
-    vbl_result r;
-    if ((r = vbl_json_object(ctx, root, "", "render", 0, &obj))) return r;
-    if (!obj) return VBL_SUCCESS;
-    if ((r = vbl_json_check_keys(ctx, obj, "render", keys))) return r;
-    const char* s = NULL;
-    if ((r = vbl_json_string(ctx, obj, "render", "method", 0, &s))) return r;
-    if (s && vbl_render_method_parse(s, &o->method))
-        return vbl_json_fail(ctx, "render.method = \"%s\" is not one of pt, vpl, vrl, vbl, beams", s);
-    double v = o->passes;
-    if ((r = vbl_json_int(ctx, obj, "render", "passes", 0, 1, 1e9, &v))) return r;
-    o->passes = (int)v;
-    v = o->spp;
-    if ((r = vbl_json_int(ctx, obj, "render", "spp", 0, 1, 1e6, &v))) return r;
-    o->spp = (int)v;
-    v = o->light_paths;
-    if ((r = vbl_json_int(ctx, obj, "render", "light_paths", 0, 0, 2e9, &v))) return r;
-    o->light_paths = (int)v;
-    v = (double)o->seed;
-    if ((r = vbl_json_int(ctx, obj, "render", "seed", 0, 0, 9007199254740992.0, &v))) return r;
-    o->seed = (uint64_t)v;
-    if ((r = vbl_json_number(ctx, obj, "render", "time_limit", 0, &o->time_limit))) return r;
-    if (o->time_limit < 0.0) return vbl_json_fail(ctx, "render.time_limit = %g is negative", o->time_limit);
-    v = o->max_bounces;
-    if ((r = vbl_json_int(ctx, obj, "render", "max_bounces", 0, -1, 1e9, &v))) return r;
-    o->max_bounces = (int)v;
-    s = NULL;
-    if ((r = vbl_json_string(ctx, obj, "render", "transmittance", 0, &s))) return r;
-    if (s && vbl_transmittance_estimator_parse(s, &o->transmittance))
-        return vbl_json_fail(ctx, "render.transmittance = \"%s\" is not a transmittance estimator "
-                                  "(delta, ratio, residual, march, cached-delta, cached-ratio)", s);
-    s = NULL;
-    if ((r = vbl_json_string(ctx, obj, "render", "mis", 0, &s))) return r;
-    if (s) {
-        if (!strcmp(s, "power"))
-            o->mis = VBL_MIS_POWER;
-        else if (!strcmp(s, "balance"))
-            o->mis = VBL_MIS_BALANCE;
-        else
-            return vbl_json_fail(ctx, "render.mis = \"%s\" is not one of power, balance", s);
-    }
-    /* render.vsl_placement: "light_paths" (default) | "blue_noise" (docs/readme/blue_noise.md) */
-    s = NULL;
-    if ((r = vbl_json_string(ctx, obj, "render", "vsl_placement", 0, &s))) return r;
-    if (s) {
-        if (!strcmp(s, "light_paths"))
-            o->vsl_placement = VBL_VSL_PLACEMENT_LIGHT_PATHS;
-        else if (!strcmp(s, "blue_noise"))
-            o->vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-        else
-            return vbl_json_fail(ctx, "render.vsl_placement = \"%s\" is not one of light_paths, blue_noise", s);
-    }
-    /* render.vsl_path_extension: true (default) | false */
-    int extension = -1;
-    if ((r = vbl_parse_bool(ctx, obj, "render", "vsl_path_extension", &extension))) return r;
-    if (extension >= 0) o->vsl_path_extension = extension ? VBL_VSL_PATH_EXTENSION_ON : VBL_VSL_PATH_EXTENSION_OFF;
-    v = o->vsl_lights;
-    if ((r = vbl_json_int(ctx, obj, "render", "vsl_lights", 0, 1, 1e7, &v))) return r;
-    o->vsl_lights = (int)v;
-    return vbl_parse_estimator_settings(ctx, obj, o);
-}
-
 /* Surface colours go through the same conversion as media albedo (scene_surfaces.h). */
 static vbl_result vbl_surface_color(const vbl_json_ctx* ctx, const void* colors, const cJSON* obj,
                                     const char* parent_field, const char* key, double min, double max, vbl_vec3* out)
@@ -560,7 +377,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
 
     vbl_render_options defaults = VBL_RENDER_OPTIONS_DEFAULT;
     scene->render = defaults;
-    if ((r = vbl_parse_render(&ctx, root, &scene->render))) return r;
+    if ((r = vbl_scene_parse_render_block(&ctx, root, &scene->render))) return r;
 
     /* the extinction field (components in media order) */
     vbl_extinction_init(&scene->extinction);

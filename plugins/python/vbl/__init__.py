@@ -17,7 +17,7 @@ import ctypes.util
 import os
 
 __all__ = ["VblError", "version", "library_path", "Scene", "Volume", "Film", "render",
-           "TransmittanceResult", "RENDER_OPTION_FIELDS"]
+           "TransmittanceResult", "RENDER_OPTION_FIELDS", "RENDER_OPTIONS"]
 
 # ---- library ---------------------------------------------------------------------------------
 
@@ -141,36 +141,20 @@ class _RenderProgress(ctypes.Structure):
 _PassCallback = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_RenderProgress), ctypes.c_void_p)
 
 
-class _RenderOptions(ctypes.Structure):
-    _fields_ = [("size", ctypes.c_size_t),
-                ("method", _c_enum),
-                ("passes", ctypes.c_int),
-                ("spp", ctypes.c_int),
-                ("light_paths", ctypes.c_int),
-                ("seed", ctypes.c_uint64),
-                ("time_limit", ctypes.c_double),
-                ("threads", ctypes.c_int),
-                ("max_bounces", ctypes.c_int),
-                ("transmittance", _c_enum),
-                ("mis", _c_enum),
-                ("callback", _PassCallback),
-                ("callback_user_data", ctypes.c_void_p),
-                ("vrl_samples", ctypes.c_int),
-                ("vrl_long", ctypes.c_int),
-                ("vrl_connect_march", ctypes.c_int),
-                ("vrl_march_step", ctypes.c_double),
-                ("vrl_prune_radius", ctypes.c_double),
-                ("vrl_prune_min_probability", ctypes.c_double),
-                ("vpl_clamp_distance", ctypes.c_double),
-                ("vbl_radius0", ctypes.c_double),
-                ("vbl_alpha", ctypes.c_double),
-                ("first_pass", ctypes.c_int),
-                ("vbl_single_scattering", ctypes.c_int),
-                ("beams_radius0", ctypes.c_double),
-                ("beams_alpha", ctypes.c_double),
-                ("vsl_placement", ctypes.c_int),
-                ("vsl_path_extension", ctypes.c_int),
-                ("vsl_lights", ctypes.c_int)]
+class _OptionInfo(ctypes.Structure):
+    """vbl_render_option_info (vbl/vbl_render_options.h): one row of the options table."""
+    _fields_ = [("name", ctypes.c_char_p),
+                ("key", ctypes.c_char_p),
+                ("flag", ctypes.c_char_p),
+                ("type", _c_enum),
+                ("type_name", ctypes.c_char_p),
+                ("default_value", ctypes.c_double),
+                ("min", ctypes.c_double),
+                ("max", ctypes.c_double),
+                ("flags", ctypes.c_uint),
+                ("choices", ctypes.c_char_p),
+                ("effect", _c_enum),
+                ("help", ctypes.c_char_p)]
 
 
 class _FilmStats(ctypes.Structure):
@@ -195,7 +179,7 @@ STRUCT_SIZES = {
     "vbl_transmittance_result": ctypes.sizeof(_TransmittanceResult),
     "vbl_scene_load_options": ctypes.sizeof(_SceneLoadOptions),
     "vbl_render_progress": ctypes.sizeof(_RenderProgress),
-    "vbl_render_options": ctypes.sizeof(_RenderOptions),
+    "vbl_render_option_info": ctypes.sizeof(_OptionInfo),
     "vbl_film_stats": ctypes.sizeof(_FilmStats),
 }
 
@@ -238,11 +222,18 @@ _scene_resolution = _proto("vbl_scene_resolution", None, _P, ctypes.POINTER(ctyp
 _scene_light_count = _proto("vbl_scene_light_count", ctypes.c_int, _P)
 _scene_medium_count = _proto("vbl_scene_medium_count", ctypes.c_int, _P)
 _scene_medium_path = _proto("vbl_scene_medium_path", ctypes.c_char_p, _P, ctypes.c_int)
-_scene_render_options = _proto("vbl_scene_render_options", _R, _P, ctypes.POINTER(_RenderOptions))
+_scene_render_options = _proto("vbl_scene_render_options", _R, _P, _P)
 _method_name = _proto("vbl_render_method_name", ctypes.c_char_p, _R)
 _method_parse = _proto("vbl_render_method_parse", _R, ctypes.c_char_p, ctypes.POINTER(_R))
 
-_render = _proto("vbl_render", _R, _P, ctypes.POINTER(_RenderOptions), ctypes.POINTER(_P))
+_render = _proto("vbl_render", _R, _P, _P, ctypes.POINTER(_P))
+_option_count = _proto("vbl_render_option_count", ctypes.c_int)
+_option_desc = _proto("vbl_render_option_desc", ctypes.POINTER(_OptionInfo), ctypes.c_int)
+_option_set = _proto("vbl_render_option_set", _R, _P, ctypes.c_char_p, ctypes.c_char_p)
+_option_get = _proto("vbl_render_option_get", _R, _P, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_size_t)
+_options_create = _proto("vbl_render_options_create", _R, ctypes.POINTER(_P))
+_options_destroy = _proto("vbl_render_options_destroy", None, _P)
+_options_set_callback = _proto("vbl_render_options_set_callback", None, _P, _PassCallback, _P)
 _film_release = _proto("vbl_film_release", None, _P)
 _film_width = _proto("vbl_film_width", ctypes.c_int, _P)
 _film_height = _proto("vbl_film_height", ctypes.c_int, _P)
@@ -326,41 +317,69 @@ def _parse_estimator(value):
     return out.value
 
 
-_MIS_NAMES = {0: "power", 1: "balance"}
+# ---- render options: the library's options table (vbl_render_option_count/desc/set/get) ---------
 
 
-def _parse_mis(value):
-    if isinstance(value, int):
-        return value
-    for code, name in _MIS_NAMES.items():
-        if value == name:
-            return code
-    raise _argument_error("unknown MIS heuristic %r (power, balance)" % (value,))
+def _option_rows():
+    rows = []
+    for index in range(_option_count()):
+        d = _option_desc(index).contents
+        rows.append({"name": _decode(d.name), "key": _decode(d.key), "flag": _decode(d.flag),
+                     "type": _decode(d.type_name), "default": d.default_value, "min": d.min, "max": d.max,
+                     "flags": d.flags, "choices": _decode(d.choices).split("|") if d.choices else None,
+                     "effect": d.effect, "help": _decode(d.help)})
+    return rows
 
 
-_ENUM_FIELDS = {"method": (_parse_method, lambda v: _decode(_method_name(v))),
-                "transmittance": (_parse_estimator, lambda v: _decode(_estimator_name(v))),
-                "mis": (_parse_mis, lambda v: _MIS_NAMES.get(v, v))}
-_HIDDEN_FIELDS = ("size", "callback", "callback_user_data")
-
-# The settable fields of vbl_render_options, in struct order (render() keyword arguments).
-RENDER_OPTION_FIELDS = tuple(name for name, _ in _RenderOptions._fields_ if name not in _HIDDEN_FIELDS)
-
-
-def _default_render_options():
-    # VBL_RENDER_OPTIONS_DEFAULT
-    return _RenderOptions(ctypes.sizeof(_RenderOptions), 0, 16, 4, 10000, 0, 0.0, 0, -1, 1, 0,
-                          _PassCallback(), None, 1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0, 0, 0.0, 0.0, 0)
+# Every render option as the library describes it (name, key, flag, type, default, min, max,
+# choices, help), in table order.
+RENDER_OPTIONS = tuple(_option_rows())
+# The settable fields of vbl_render_options, in table order (render() keyword arguments).
+RENDER_OPTION_FIELDS = tuple(row["name"] for row in RENDER_OPTIONS)
+_OPTION_TYPES = {row["name"]: row["type"] for row in RENDER_OPTIONS}
+_OPTION_CHOICES = {row["name"]: row["choices"] for row in RENDER_OPTIONS if row["choices"]}
 
 
-def _options_to_dict(options):
-    out = {}
-    for name in RENDER_OPTION_FIELDS:
-        value = getattr(options, name)
-        if name in _ENUM_FIELDS:
-            value = _ENUM_FIELDS[name][1](value)
-        out[name] = value
-    return out
+class _Options:
+    """A vbl_render_options the library allocates (the binding never mirrors the struct)."""
+
+    def __init__(self):
+        handle = _P()
+        _check(_options_create(ctypes.byref(handle)))
+        self.handle = handle
+
+    def __del__(self):
+        if getattr(self, "handle", None) and _options_destroy is not None:
+            _options_destroy(self.handle)
+            self.handle = None
+
+    def set(self, name, value):
+        choices = _OPTION_CHOICES.get(name)
+        if choices and isinstance(value, int) and not isinstance(value, bool) and 0 <= value < len(choices):
+            value = choices[value]  # an enum by its number, as the struct holds it
+        if isinstance(value, bool):
+            text = "true" if value else "false"
+        elif isinstance(value, float):
+            text = repr(value)
+        else:
+            text = str(value)
+        _check(_option_set(self.handle, _encode(name), _encode(text)))
+
+    def get(self, name):
+        buffer = ctypes.create_string_buffer(256)
+        _check(_option_get(self.handle, _encode(name), buffer, len(buffer)))
+        text = _decode(buffer.value)
+        kind = _OPTION_TYPES[name]
+        if kind in ("int", "uint64"):
+            return int(text)
+        if kind == "double":
+            return float(text)
+        if kind == "bool":
+            return text == "true"
+        return text
+
+    def to_dict(self):
+        return {name: self.get(name) for name in RENDER_OPTION_FIELDS}
 
 
 # ---- volumes ---------------------------------------------------------------------------------
@@ -492,15 +511,16 @@ class Scene:
     def medium_path(self, index):
         return _decode(_scene_medium_path(self._handle, int(index)))
 
-    def _render_options_struct(self):
-        options = _default_render_options()
-        _check(_scene_render_options(self._handle, ctypes.byref(options)))
+    def _render_options(self):
+        options = _Options()
+        _check(_scene_render_options(self._handle, options.handle))
         return options
 
     def render_options(self):
         """The scene's `render` block (defaults for what it leaves out) as a dict keyed by the
-        fields of vbl_render_options; enums as names ("pt", "ratio", "power")."""
-        return _options_to_dict(self._render_options_struct())
+        fields of vbl_render_options (RENDER_OPTION_FIELDS); enums as names ("pt", "ratio", "power"),
+        bools as bool."""
+        return self._render_options().to_dict()
 
 
 # ---- film and rendering ----------------------------------------------------------------------
@@ -564,15 +584,13 @@ def render(scene, callback=None, **overrides):
     threads, time_limit, max_bounces, transmittance, mis, vrl_*, vpl_clamp_distance, vbl_*).
     `callback(progress_dict)` runs after every pass; a true return stops the render (the partial
     film is returned, stats["cancelled"] == 1)."""
-    options = scene._render_options_struct()
+    options = scene._render_options()
     for name, value in overrides.items():
         if name not in RENDER_OPTION_FIELDS:
             raise _argument_error("render(): unknown option %r (options: %s)" % (name, ", ".join(RENDER_OPTION_FIELDS)))
         if value is None:
             continue
-        if name in _ENUM_FIELDS:
-            value = _ENUM_FIELDS[name][0](value)
-        setattr(options, name, value)
+        options.set(name, value)
     errors = []
     if callback is not None:
         def trampoline(progress, _user):
@@ -585,9 +603,9 @@ def render(scene, callback=None, **overrides):
                 errors.append(error)
                 return 1
         c_callback = _PassCallback(trampoline)
-        options.callback = c_callback
+        _options_set_callback(options.handle, c_callback, None)
     handle = _P()
-    code = _render(scene._handle, ctypes.byref(options), ctypes.byref(handle))
+    code = _render(scene._handle, options.handle, ctypes.byref(handle))
     film = Film(handle) if handle else None
     if errors:
         raise errors[0]

@@ -1,0 +1,240 @@
+/* libvbl render options: ONE table (VBL_RENDER_OPTION_LIST below) from which come the struct
+ * vbl_render_options, its defaults (VBL_RENDER_OPTIONS_DEFAULT, vbl_render_options_init), the
+ * validator every front end uses (vbl_render_options_validate, vbl_render_option_set), the
+ * scene file's `render` block, the `vbl render` flags and --help, the EXR options hash, the
+ * documentation table (`vbl options --markdown`, docs/readme/options_table.md) and the Python
+ * binding (through the reflection calls at the end of this header).
+ *
+ * Adding an option: docs/CONTRIBUTING.md, "Adding a render option". Included by vbl_render.h. */
+#ifndef VBL_RENDER_OPTIONS_H
+#define VBL_RENDER_OPTIONS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "vbl/vbl_core.h"
+#include "vbl/vbl_volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- the modes (enum options) ---------------------------------------------------------- */
+
+typedef enum vbl_render_method {
+    VBL_RENDER_PT = 0,  /* volumetric path tracer (reference) */
+    VBL_RENDER_VPL = 1, /* virtual point lights */
+    VBL_RENDER_VRL = 2, /* virtual ray lights */
+    VBL_RENDER_VBL = 3, /* virtual beam lights (media-to-media, progressive radius) */
+    VBL_RENDER_BEAMS = 4 /* progressive photon beams (beam x beam 1D, progressive width) */
+} vbl_render_method;
+
+typedef enum vbl_mis_heuristic {
+    VBL_MIS_POWER = 0,   /* power heuristic, beta = 2 (default) */
+    VBL_MIS_BALANCE = 1
+} vbl_mis_heuristic;
+
+/* vbl's volume_direct (render.vbl.single_scattering). */
+typedef enum vbl_single_scattering {
+    VBL_SINGLE_SCATTERING_DEFAULT = 0,     /* = equiangular */
+    VBL_SINGLE_SCATTERING_EQUIANGULAR = 1,
+    VBL_SINGLE_SCATTERING_BEAMS = 2        /* photon beams */
+} vbl_single_scattering;
+
+/* Surface VSLs for surface_from_surface of vpl/vrl/vbl (render.vsl_placement). */
+typedef enum vbl_vsl_placement {
+    VBL_VSL_PLACEMENT_LIGHT_PATHS = 0,
+    VBL_VSL_PLACEMENT_BLUE_NOISE = 1
+} vbl_vsl_placement;
+
+/* blue_noise's adaptive camera path extension (render.vsl_path_extension). */
+typedef enum vbl_vsl_path_extension {
+    VBL_VSL_PATH_EXTENSION_DEFAULT = 0, /* = on */
+    VBL_VSL_PATH_EXTENSION_ON = 1,
+    VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
+} vbl_vsl_path_extension;
+
+#define VBL_VSL_LIGHTS_DEFAULT 1024
+
+/* Reported after every pass; return non-zero from the callback to stop after that pass. */
+typedef struct vbl_render_progress {
+    int pass;               /* passes completed so far (1 after the first) */
+    int passes;             /* passes requested */
+    double elapsed_seconds; /* since vbl_render started */
+    double pass_seconds;    /* the pass just finished */
+    uint64_t samples_per_pixel; /* camera samples per pixel so far */
+    int first_pass;         /* options.first_pass: the absolute index of this render's first pass */
+    const void* driver;     /* opaque: for vbl_render_snapshot inside the callback */
+} vbl_render_progress;
+
+typedef int (*vbl_render_pass_callback)(const vbl_render_progress* progress, void* user_data);
+
+/* ---- the table ------------------------------------------------------------------------- */
+
+/* Column values of the table. */
+typedef enum vbl_render_option_type {
+    VBL_OPTION_INT = 0,
+    VBL_OPTION_UINT64 = 1,
+    VBL_OPTION_DOUBLE = 2, /* always finite */
+    VBL_OPTION_BOOL = 3,   /* 0 / 1; text true|false (also on|off, 1|0) */
+    VBL_OPTION_ENUM = 4    /* 0 .. n-1 named by `choices` ("pt|vpl|vrl|vbl|beams") */
+} vbl_render_option_type;
+
+/* What an option does to the pixels (and so how two renders' files may be merged). */
+typedef enum vbl_render_option_effect {
+    VBL_OPTION_EFFECT_NONE = 0,     /* never changes pixels (threads) */
+    VBL_OPTION_EFFECT_PASSES = 1,   /* which passes run (passes, first_pass, time_limit): merged over */
+    VBL_OPTION_EFFECT_IDENTITY = 2, /* changes pixels; an EXR attribute of its own (vbl:method, vbl:spp, ...) */
+    VBL_OPTION_EFFECT_HASH = 3      /* changes pixels; part of vbl:options_hash */
+} vbl_render_option_effect;
+
+/* flags */
+#define VBL_OPTION_MIN_OPEN 1u     /* range excludes min */
+#define VBL_OPTION_MAX_OPEN 2u     /* range excludes max */
+#define VBL_OPTION_ZERO_DEFAULT 4u /* the library also takes 0 = "the default named in help" (for callers
+                                      older than the option's real default); scene files and the CLI do not */
+#define VBL_OPTION_JSON_BOOL 8u    /* enum written as true / false in scene files (choices 1 / 2) */
+#define VBL_OPTION_HASH_ALWAYS 16u /* in the options hash even at its default (options older than the
+                                      table; newer ones enter the hash only when not at their default, so
+                                      adding an option keeps old files mergeable) */
+
+/* X(name, c type, type, scene key under "render" (NULL: none), CLI flag (NULL: none), default, min,
+ *   max, flags, choices (enum) or NULL, effect, help)
+ * F(name, c type, default): a struct field that is not an option (callbacks).
+ * The order is the struct's (ABI): append new options at the end. */
+#define VBL_RENDER_OPTION_LIST(X, F)                                                                         \
+    X(method, vbl_render_method, ENUM, "method", "--method", VBL_RENDER_PT, 0, 4, 0,                         \
+      "pt|vpl|vrl|vbl|beams", IDENTITY, "rendering method")                                                 \
+    X(passes, int, INT, "passes", "--passes", 16, 1, 1e9, 0, NULL, PASSES, "independent progressive passes") \
+    X(spp, int, INT, "spp", "--spp", 4, 1, 1e6, 0, NULL, IDENTITY, "camera samples per pixel per pass")      \
+    X(light_paths, int, INT, "light_paths", "--light-paths", 10000, 0, 2e9, 0, NULL, IDENTITY,               \
+      "light paths per pass (vpl, vrl, vbl)")                                                                \
+    X(seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,            \
+      "random seed (scene files: at most 2^53)")                                                             \
+    X(time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL, PASSES,          \
+      "seconds: stop after the pass that exceeds it (0: none)")                                              \
+    X(threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)")     \
+    X(max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, NULL,     \
+      HASH, "scattering events per path (-1: unlimited)")                                                   \
+    X(transmittance, vbl_transmittance_estimator, ENUM, "transmittance", "--transmittance",                 \
+      VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 5, VBL_OPTION_HASH_ALWAYS,                                        \
+      "delta|ratio|residual|march|cached-delta|cached-ratio", HASH,                                          \
+      "transmittance estimator of shadow rays and camera rays")                                              \
+    X(mis, vbl_mis_heuristic, ENUM, "mis", "--mis", VBL_MIS_POWER, 0, 1, VBL_OPTION_HASH_ALWAYS,            \
+      "power|balance", HASH, "multiple importance sampling heuristic")                                       \
+    F(callback, vbl_render_pass_callback, NULL)                                                              \
+    F(callback_user_data, void*, NULL)                                                                       \
+    X(vrl_samples, int, INT, "vrl.samples", "--vrl-samples", 1, 1, 1e6,                                      \
+      VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                          \
+      "vrl: (u, v) samples per VRL / camera-ray pair")                                                       \
+    X(vrl_long, int, BOOL, "vrl.long", "--vrl-long", 0, 0, 1, VBL_OPTION_HASH_ALWAYS, NULL, HASH,           \
+      "vrl: long VRLs (to the media exit, cached transmittance)")                                            \
+    X(vrl_connect_march, int, ENUM, "vrl.connect", "--vrl-connect", 0, 0, 1, VBL_OPTION_HASH_ALWAYS,        \
+      "ratio|march", HASH, "vrl: VRL-to-camera-ray transmittance by ratio tracking or ray marching (biased)") \
+    X(vrl_march_step, double, DOUBLE, "vrl.march_step", "--vrl-march-step", 0.0, 0, INFINITY,                \
+      VBL_OPTION_HASH_ALWAYS, NULL, HASH, "vrl: march step in world units for connect = march (0: adaptive)") \
+    X(vrl_prune_radius, double, DOUBLE, "vrl.prune_radius", "--vrl-prune-radius", 0.0, 0, INFINITY,         \
+      VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                                                    \
+      "vrl: Russian-roulette pruning radius, a fraction of the media's bounding radius (0: off)")           \
+    X(vrl_prune_min_probability, double, DOUBLE, "vrl.prune_min_probability", "--vrl-prune-min-probability", \
+      0.1, 0, 1, VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,         \
+      "vrl: floor of the pruning survival probability")                                                      \
+    X(vpl_clamp_distance, double, DOUBLE, "vpl.clamp_distance", "--vpl-clamp-distance", 0.0, 0, INFINITY,   \
+      VBL_OPTION_HASH_ALWAYS, NULL, HASH, "vpl: 1/w^2 -> 1/max(w^2, c^2) in world units (biased; 0: off)")   \
+    X(vbl_radius0, double, DOUBLE, "vbl.radius0", "--vbl-radius0", 0.0, 0, INFINITY,                         \
+      VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
+      "vbl: initial VSL radius in world units (default 0: from the scene's size and the VRL density)")      \
+    X(vbl_alpha, double, DOUBLE, "vbl.alpha", "--vbl-alpha", 0.0, 0, 1,                                      \
+      VBL_OPTION_MIN_OPEN | VBL_OPTION_MAX_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL,    \
+      HASH, "vbl: radius reduction per pass (default 0: 0.7)")                                              \
+    X(first_pass, int, INT, NULL, NULL, 0, 0, 2147483647.0, 0, NULL, PASSES,                                 \
+      "absolute index of the first pass (split rendering: vbl render --pass-range)")                        \
+    X(vbl_single_scattering, vbl_single_scattering, ENUM, "vbl.single_scattering", "--vbl-single-scattering", \
+      VBL_SINGLE_SCATTERING_DEFAULT, 0, 2, VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS,                 \
+      "default|equiangular|beams", HASH, "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")     \
+    X(beams_radius0, double, DOUBLE, "beams.radius0", "--beams-radius0", 0.0, 0, INFINITY,                   \
+      VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
+      "beams (and vbl with beam single scattering): initial beam half-width in world units "                 \
+      "(default 0: from the scene and the beam density)")                                                    \
+    X(beams_alpha, double, DOUBLE, "beams.alpha", "--beams-alpha", 0.0, 0, 1,                                \
+      VBL_OPTION_MIN_OPEN | VBL_OPTION_MAX_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL,    \
+      HASH, "beams: width reduction per pass (default 0: 0.7)")                                             \
+    X(vsl_placement, vbl_vsl_placement, ENUM, "vsl_placement", "--vsl-placement",                            \
+      VBL_VSL_PLACEMENT_LIGHT_PATHS, 0, 1, VBL_OPTION_HASH_ALWAYS, "light_paths|blue_noise", HASH,           \
+      "vpl, vrl, vbl: surface VSLs for surface_from_surface from light paths or camera-driven blue noise")   \
+    X(vsl_path_extension, vbl_vsl_path_extension, ENUM, "vsl_path_extension", "--vsl-path-extension",        \
+      VBL_VSL_PATH_EXTENSION_DEFAULT, 0, 2,                                                                   \
+      VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_JSON_BOOL | VBL_OPTION_HASH_ALWAYS, "default|on|off", HASH,       \
+      "blue_noise: the adaptive camera path extension (default: on)")                                        \
+    X(vsl_lights, int, INT, "vsl_lights", "--vsl-lights", VBL_VSL_LIGHTS_DEFAULT, 1, 1e7,                    \
+      VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                          \
+      "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")
+
+/* ---- the struct, generated ------------------------------------------------------------- */
+
+#define VBL_RENDER_OPTION_FIELD_(name, ctype, ...) ctype name;
+#define VBL_RENDER_PLAIN_FIELD_(name, ctype, def) ctype name;
+typedef struct vbl_render_options {
+    size_t size; /* sizeof(vbl_render_options) */
+    VBL_RENDER_OPTION_LIST(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_render_options;
+
+/* Designated initializer of the table's defaults:  vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT; */
+#define VBL_RENDER_OPTION_INIT_(name, ctype, type, key, flag, def, ...) , .name = (def)
+#define VBL_RENDER_PLAIN_INIT_(name, ctype, def) , .name = (def)
+#define VBL_RENDER_OPTIONS_DEFAULT \
+    {.size = sizeof(vbl_render_options) VBL_RENDER_OPTION_LIST(VBL_RENDER_OPTION_INIT_, VBL_RENDER_PLAIN_INIT_)}
+
+/* The same defaults at run time (sets size). */
+VBL_API void vbl_render_options_init(vbl_render_options* options);
+/* The validator of vbl_render (every option in its range; size; first_pass + passes fits an int).
+ * Failure: VBL_ERROR_INVALID_ARGUMENT, "vbl_render: vbl_alpha = 1 is outside (0, 1)". */
+VBL_API vbl_result vbl_render_options_validate(const vbl_render_options* options);
+
+/* ---- reflection (bindings, tools, docs) ------------------------------------------------ */
+
+typedef struct vbl_render_option_info {
+    const char* name;      /* struct field: "vbl_alpha" */
+    const char* key;       /* scene file key under "render": "vbl.alpha"; NULL: not in scene files */
+    const char* flag;      /* `vbl render` flag: "--vbl-alpha"; NULL: none */
+    vbl_render_option_type type;
+    const char* type_name; /* "int", "uint64", "double", "bool", "enum" */
+    double default_value;  /* the default as a number (enum: its index) */
+    double min, max;       /* range (enum: 0 .. choices - 1) */
+    unsigned flags;        /* VBL_OPTION_* above */
+    const char* choices;   /* enum: "pt|vpl|vrl|vbl|beams", else NULL */
+    vbl_render_option_effect effect;
+    const char* help;
+} vbl_render_option_info;
+
+VBL_API int vbl_render_option_count(void);
+/* The index-th option (0 .. count - 1) in table order; NULL out of range. */
+VBL_API const vbl_render_option_info* vbl_render_option_desc(int index);
+/* Index of an option by field name ("vbl_alpha"), scene key ("vbl.alpha") or flag ("--vbl-alpha"); -1 if none. */
+VBL_API int vbl_render_option_find(const char* name);
+/* Sets an option from text: numbers as C literals, bools true|false|on|off|1|0, enums by name.
+ * Accepts what the library accepts (the 0 of VBL_OPTION_ZERO_DEFAULT options too); failures
+ * (VBL_ERROR_INVALID_ARGUMENT) name the option and the range and leave *options unchanged. */
+VBL_API vbl_result vbl_render_option_set(vbl_render_options* options, const char* name, const char* value);
+/* The same as scene files and `vbl render` flags take it: also refuses the 0 that stands for a default. */
+VBL_API vbl_result vbl_render_option_set_strict(vbl_render_options* options, const char* name, const char* value);
+/* Writes the option's value as text (what vbl_render_option_set takes back: doubles round-trip exactly)
+ * into out[size]. VBL_ERROR_INVALID_ARGUMENT for unknown names or a too small buffer. */
+VBL_API vbl_result vbl_render_option_get(const vbl_render_options* options, const char* name, char* out,
+                                         size_t size);
+
+/* "fnv1a64:<16 hex digits>" of the options whose effect is HASH (written as vbl:options_hash; two
+ * renders' files merge only if their hashes agree). out[size >= 25]. */
+VBL_API void vbl_render_options_hash(const vbl_render_options* options, char* out, size_t size);
+
+/* Heap options for bindings that do not mirror the struct: created with the defaults. */
+VBL_API vbl_result vbl_render_options_create(vbl_render_options** out_options);
+VBL_API void vbl_render_options_destroy(vbl_render_options* options);
+VBL_API void vbl_render_options_set_callback(vbl_render_options* options, vbl_render_pass_callback callback,
+                                             void* user_data);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VBL_RENDER_OPTIONS_H */
