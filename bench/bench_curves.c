@@ -3,7 +3,7 @@
  * (the cloud as smoke among surfaces: per-layer curves of the surface layers too).
  *
  *   build/bench/bench_curves [--budget 30] [--reference-seconds 240] [--res 96x72] [--threads 2]
- *       [--scenes cloud,dense,smoky_room] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only]
+ *       [--scenes cloud,dense,smoky_room] [--methods pt,vpl,vrl,vbl,beams,vrl-sel,vbl-sel] [--no-presets] [--presets-only]
  *       [--vbl-radius0 R] [--vbl-alpha A] (vbl's method run; 0: defaults)
  *       [--vdb build/samples/cloud.vdb] [--csv build/bench/curves.csv]
  *
@@ -47,9 +47,12 @@
 #define VBL_BENCH_CACHE_DIR "."
 #endif
 
+#define VBL_BENCH_SEL_LIGHT_PATHS 1000
+#define VBL_BENCH_SEL_K 4
+
 /* ---- what is compared: one line per scene / method --------------------------------------- */
 
-#define BENCH_METHOD_COUNT 5 /* bench_methods[] below: pt, vpl, vrl, vbl, beams */
+#define BENCH_METHOD_COUNT 7 /* bench_methods[] below: pt, vpl, vrl, vbl, beams, vrl-sel, vbl-sel */
 
 typedef struct bench_scene {
     const char* name;
@@ -81,14 +84,19 @@ typedef struct bench_method {
     const char* label;
     const char* method;
     int spp, light_paths;
+    int select; /* vrl_select: VRLs per camera sample from the light tree; 0: every VRL */
 } bench_method;
 
 static const bench_method bench_methods[BENCH_METHOD_COUNT] = {
-    {"pt", "pt", 4, 0},
-    {"vpl", "vpl", 1, 100},
-    {"vrl", "vrl", 1, 30},
-    {"vbl", "vbl", 1, 10},
-    {"beams", "beams", 1, 100},
+    {"pt", "pt", 4, 0, 0},
+    {"vpl", "vpl", 1, 100, 0},
+    {"vrl", "vrl", 1, 30, 0},
+    {"vbl", "vbl", 1, 10, 0},
+    {"beams", "beams", 1, 100, 0},
+    /* per-camera-ray selection from the light tree (issue 13): K VRLs per camera sample, so a
+     * pass affords many more light paths */
+    {"vrl-sel", "vrl", 1, VBL_BENCH_SEL_LIGHT_PATHS, VBL_BENCH_SEL_K},
+    {"vbl-sel", "vbl", 1, VBL_BENCH_SEL_LIGHT_PATHS, VBL_BENCH_SEL_K},
 };
 
 static const char* const bench_presets[] = {"preview", "production", "final"};
@@ -388,6 +396,7 @@ int main(int argc, char** argv)
             o.method = method;
             o.spp = bm->spp;
             o.light_paths = bm->light_paths;
+            o.vrl_select = bm->select;
             if (bs->light_paths[m] < 0) {
                 printf("# %s %s: skipped for this scene (see bench_scenes[])\n", bs->name, bm->label);
                 continue;
@@ -453,7 +462,7 @@ int main(int argc, char** argv)
     return 0;
 usage:
     fprintf(stderr, "usage: bench_curves [--budget S] [--reference-seconds S] [--res WxH] [--threads N] "
-                    "[--scenes cloud,dense,smoky_room] [--methods pt,vpl,vrl,vbl,beams] [--no-presets] [--presets-only] "
+                    "[--scenes cloud,dense,smoky_room] [--methods pt,vpl,vrl,vbl,beams,vrl-sel,vbl-sel] [--no-presets] [--presets-only] "
                     "[--vbl-radius0 R] [--vbl-alpha A] [--vdb FILE] [--csv FILE]\n");
     return 2;
 }

@@ -66,7 +66,7 @@ static void test_parse_fields(void** state)
     assert_int_equal(load_text("ok.json",
                                "{" CAMERA ", \"render\": {\"method\": \"vrl\", \"light_paths\": 50,"
                                " \"vrl\": {\"samples\": 3, \"long\": true, \"connect\": \"march\", \"march_step\": 0.05,"
-                               " \"prune_radius\": 0.25, \"prune_min_probability\": 0.05, \"_note\": \"x\"},"
+                               " \"prune_radius\": 0.25, \"prune_min_probability\": 0.05, \"select\": 8, \"_note\": \"x\"},"
                                " \"vpl\": {\"clamp_distance\": 0.1}}}",
                                &scene),
                      VBL_SUCCESS);
@@ -81,6 +81,7 @@ static void test_parse_fields(void** state)
     assert_true(o.vrl_prune_radius == 0.25);
     assert_true(o.vrl_prune_min_probability == 0.05);
     assert_true(o.vpl_clamp_distance == 0.1);
+    assert_int_equal(o.vrl_select, 8);
     vbl_scene_release(scene);
 
     assert_int_equal(load_text("ok2.json",
@@ -91,6 +92,7 @@ static void test_parse_fields(void** state)
     assert_int_equal(o.vrl_long, 0);
     assert_int_equal(o.vrl_connect_march, 0);
     assert_int_equal(o.vrl_samples, 1);
+    assert_int_equal(o.vrl_select, 0);
     vbl_scene_release(scene);
 }
 
@@ -107,6 +109,7 @@ static void test_parse_errors(void** state)
     expect_error("{\"vrl\": {\"prune_min_probability\": 1.5}}",
                  "render.vrl.prune_min_probability = 1.5 is outside (0, 1]");
     expect_error("{\"vrl\": {\"march_step\": -1}}", "render.vrl.march_step = -1 is outside [0, inf)");
+    expect_error("{\"vrl\": {\"select\": -1}}", "render.vrl.select = -1 is outside [0, 1000000]");
     expect_error("{\"vrl\": {\"sample\": 2}}", "unknown key 'render.vrl.sample'");
     expect_error("{\"vrl\": 3}", "render.vrl must be an object");
     expect_error("{\"vpl\": {\"clamp_distance\": -0.1}}", "render.vpl.clamp_distance = -0.1 is outside [0, inf)");
@@ -139,6 +142,10 @@ static void test_render_validates(void** state)
     o = base;
     o.vrl_long = 2;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    o = base;
+    o.vrl_select = -3;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "vrl_select"));
     assert_null(film);
     /* zeros in the new fields (initializers older than them) are the defaults */
     o = base;

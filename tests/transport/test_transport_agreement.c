@@ -47,6 +47,15 @@ static vbl_result rr_vrl_begin(const vbl_render_context* ctx, void** store)
 }
 static const vbl_estimator rr_vrl = {"vrl-rr", 1, rr_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
 
+/* light-tree selection: 4 VRLs per camera sample (vrl_tree.h) */
+static vbl_result sel_vrl_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
+    s.select = 4;
+    return vbl_vrl_pass_begin_with(ctx, &s, store);
+}
+static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+
 typedef struct scene_case {
     vbl_scene* scene;
     vbl_volume* volumes[2];
@@ -148,6 +157,7 @@ static void test_sphere_spot_vpl(void** state) { (void)state; agree(sphere_spot(
 static void test_two_media_vrl(void** state) { (void)state; agree(two_media_distant(RES), &vbl_estimator_vrl, 2, 1, 400, 4, 32, 0, "two media/distant vrl"); }
 static void test_two_media_vpl(void** state) { (void)state; agree(two_media_distant(RES), &vbl_estimator_vpl, 2, 1, 400, 4, 32, 0, "two media/distant vpl"); }
 static void test_long_vrl(void** state) { (void)state; agree(sphere_spot(RES), &long_vrl, 2, 1, 200, 4, 32, 0, "sphere/spot long-vrl"); }
+static void test_sel_vrl(void** state) { (void)state; agree(sphere_spot(RES), &sel_vrl, 2, 1, 1600, 4, 32, 0, "sphere/spot vrl-select"); }
 static void test_rr_vrl(void** state) { (void)state; agree(box_point(RES), &rr_vrl, 2, 1, 400, 4, 32, 0, "box/point rr-vrl"); }
 
 int main(void)
@@ -156,7 +166,7 @@ int main(void)
         cmocka_unit_test(test_power_vrl), cmocka_unit_test(test_box_point_vrl),   cmocka_unit_test(test_box_point_vpl),
         cmocka_unit_test(test_sphere_spot_vrl), cmocka_unit_test(test_sphere_spot_vpl),
         cmocka_unit_test(test_two_media_vrl),   cmocka_unit_test(test_two_media_vpl),
-        cmocka_unit_test(test_long_vrl),        cmocka_unit_test(test_rr_vrl),
+        cmocka_unit_test(test_long_vrl),        cmocka_unit_test(test_rr_vrl), cmocka_unit_test(test_sel_vrl),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -168,7 +168,9 @@ typedef enum vbl_render_option_effect {
       "blue_noise: the adaptive camera path extension (default: on)")                                        \
     X(vsl_lights, int, INT, "vsl_lights", "--vsl-lights", VBL_VSL_LIGHTS_DEFAULT, 1, 1e7,                    \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                          \
-      "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")
+      "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")      \
+    X(vrl_select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,                          \
+      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)")
 
 /* ---- the struct, generated ------------------------------------------------------------- */
 

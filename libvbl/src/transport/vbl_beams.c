@@ -13,6 +13,7 @@
 #include "transport/single_scatter.h"
 #include "transport/surface_gather.h"
 #include "transport/vrl.h"
+#include "transport/vrl_tree.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vbl_store {
@@ -23,6 +24,7 @@ typedef struct vbl_vbl_store {
     vbl_photon_beam_gather* beams; /* beams_single_scattering: bounce-0 photon beams */
     double beam_radius;
     vbl_surface_gather_settings gather; /* surfaces: VBL eqs 8-9 (R_p), surface VSLs (surface_gather.h) */
+    vbl_vrl_tree tree;  /* settings.select > 0: the pass's light tree (vrl_tree.h) */
 } vbl_vbl_store;
 
 void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings* out)
@@ -37,6 +39,7 @@ void vbl_vbl_settings_from_options(const vbl_render_options* o, vbl_vbl_settings
         o->vbl_single_scattering == 0 ? VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT : o->vbl_single_scattering == 2;
     if (o->beams_radius0 > 0.0) out->beams_radius0 = o->beams_radius0;
     if (o->beams_alpha > 0.0) out->beams_alpha = o->beams_alpha;
+    out->select = o->vrl_select;
 }
 
 /* Default VSL radius R_0 of the vbl method. A VSL bounds the 1/w^2 falloff inside its radius (eq 9),
@@ -69,6 +72,8 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
     if (!(settings->radius0 <= 0.0 || isfinite(settings->radius0)))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl radius0 = %g is not finite", scene->path,
                          settings->radius0);
+    if (settings->select < 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl select = %d must be >= 0", scene->path, settings->select);
     vbl_vbl_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vbl store)", scene->path);
     s->settings = *settings;
@@ -126,7 +131,9 @@ vbl_result vbl_vbl_pass_begin_with(const vbl_render_context* ctx, const vbl_vbl_
             return r;
         }
     }
-    if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+    if (settings->select > 0 && !r) r = vbl_vrl_select_tree_build(ctx, &s->photons, &s->tree);
+    if (r || (r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+        vbl_vrl_tree_free(&s->tree);
         vbl_photon_beam_gather_free(s->beams);
         vbl_photon_store_free(&s->photons);
         free(s);
@@ -149,9 +156,15 @@ void vbl_vbl_pass_end(const vbl_render_context* ctx, void* store)
     vbl_vbl_store* s = store;
     if (!s) return;
     vbl_surface_gather_blue_noise_end(&s->gather);
+    vbl_vrl_tree_free(&s->tree);
     vbl_photon_beam_gather_free(s->beams);
     vbl_photon_store_free(&s->photons);
     free(s);
+}
+
+const vbl_photon_store* vbl_vbl_store_photons(const void* store)
+{
+    return store ? &((const vbl_vbl_store*)store)->photons : NULL;
 }
 
 double vbl_vbl_store_radius(const void* store)
@@ -180,6 +193,44 @@ static vbl_vec3 vbl_vbl_kernel_sum(const vbl_scene* scene, const double* comps_u
     return acc;
 }
 
+/* Adds one VRL's VBL estimate over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *acc. */
+static void vbl_vbl_estimate(const vbl_render_context* ctx, const vbl_vbl_store* s, vbl_thread_state* ts,
+                             const vbl_vrl* l, double v0, double v1, vbl_vec3 o, vbl_vec3 d, double u0, double u1,
+                             const vbl_transmittance_cache* cache, double weight, vbl_rng* rng, vbl_vec3* acc)
+{
+    const vbl_scene* scene = ctx->scene;
+    const int S = s->settings.samples, n = s->settings.kernel_samples;
+    const double R = s->radius;
+    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_vbl_pair pair;
+    if (!vbl_vbl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g, R))
+        return;
+    for (int k = 0; k < S; ++k) {
+        double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+        double j1 = vbl_rng_uniform(rng), j2 = vbl_rng_uniform(rng);
+        vbl_vbl_pair_sample ps;
+        if (!vbl_vbl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
+        vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
+        double Tc = vbl_transmittance_cache_eval(cache, ps.u);
+        if (!(Tc > 0.0)) continue;
+        double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+        if (!(Tl > 0.0)) continue;
+        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
+        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
+        vbl_vec3 f = vbl_vbl_kernel_sum(scene, comps_u, comps_v, xu, d, xv, l->direction, R, n, j1, j2);
+        f = vbl_v3_mul(f, l->power);
+        if (!(vbl_v3_max_component(f) > 0.0)) continue;
+        /* T along the connecting segment VSL centre -> camera point (w = 0: nothing to cross) */
+        vbl_vec3 to = vbl_v3_sub(xu, xv);
+        double w = vbl_v3_length(to);
+        double Tw = w > 0.0 ? vbl_vrl_connect_transmittance(ctx, &ctx->tracking, ts, xv, vbl_v3_scale(to, 1.0 / w), w,
+                                                            rng)
+                            : 1.0;
+        if (!(Tw > 0.0)) continue;
+        *acc = vbl_v3_madd(*acc, f, Tc * Tl * Tw * weight / (S * ps.pdf));
+    }
+}
+
 void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -200,39 +251,28 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     if (beams_direct) vbl_photon_beam_gather_eval_cached(ctx, s->beams, ts, &cache, o, d, u0, u1, out);
     if (!(s->radius > 0.0)) return;
-    const int S = s->settings.samples, n = s->settings.kernel_samples;
-    const double R = s->radius;
-    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
-    for (size_t j = 0; j < s->photons.vrl_count; ++j) {
-        const vbl_vrl* l = &s->photons.vrls[j];
-        if (M >= 0 && l->bounce + 2 > M) continue;
-        vbl_vbl_pair pair;
-        if (!vbl_vbl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g, R))
-            continue;
-        for (int k = 0; k < S; ++k) {
-            double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
-            double j1 = vbl_rng_uniform(rng), j2 = vbl_rng_uniform(rng);
-            vbl_vbl_pair_sample ps;
-            if (!vbl_vbl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
-            vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
-            double Tc = vbl_transmittance_cache_eval(&cache, ps.u);
-            if (!(Tc > 0.0)) continue;
-            double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
-            if (!(Tl > 0.0)) continue;
-            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
-            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
-            vbl_vec3 f = vbl_vbl_kernel_sum(scene, comps_u, comps_v, xu, d, xv, l->direction, R, n, j1, j2);
-            f = vbl_v3_mul(f, l->power);
-            if (!(vbl_v3_max_component(f) > 0.0)) continue;
-            /* T along the connecting segment VSL centre -> camera point (w = 0: nothing to cross) */
-            vbl_vec3 to = vbl_v3_sub(xu, xv);
-            double w = vbl_v3_length(to);
-            double Tw = w > 0.0 ? vbl_vrl_connect_transmittance(ctx, &ctx->tracking, ts, xv, vbl_v3_scale(to, 1.0 / w), w,
-                                                                rng)
-                                : 1.0;
-            if (!(Tw > 0.0)) continue;
-            acc = vbl_v3_madd(acc, f, Tc * Tl * Tw / (S * ps.pdf));
+    if (s->settings.select > 0) {
+        /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
+        const int K = s->settings.select;
+        vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
+                                vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
+                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+        const double xi0 = vbl_rng_uniform(rng);
+        for (int k = 0; k < K; ++k) {
+            /* stratified over the K draws (each draw's marginal is still the tree pdf) */
+            double pdf, xi = (k + xi0) / K;
+            int j = vbl_vrl_tree_sample(&s->tree, &q, xi < 1.0 ? xi : 0x1.fffffffffffffp-1, &pdf);
+            if (j < 0 || !(pdf > 0.0)) break;
+            const vbl_vrl_tree_piece* pc = &s->tree.pieces[j];
+            vbl_vbl_estimate(ctx, s, ts, &s->photons.vrls[pc->vrl], pc->v0, pc->v1, o, d, u0, u1, &cache,
+                             1.0 / (K * pdf), rng, &acc);
+        }
+    } else {
+        for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+            const vbl_vrl* l = &s->photons.vrls[j];
+            if (M >= 0 && l->bounce + 2 > M) continue;
+            vbl_vbl_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, 1.0, rng, &acc);
         }
     }
     out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);

@@ -39,10 +39,11 @@ typedef struct vbl_vbl_settings {
     int beams_single_scattering;
     double beams_radius0; /* <= 0: default from the scene and the bounce-0 beams' length */
     double beams_alpha;   /* (0, 1]: eq 11 with d = 1 */
+    int select;           /* > 0: K VRLs per camera sample from the light tree (vrl_tree.h, as vrl); 0: all */
 } vbl_vbl_settings;
 
 #define VBL_VBL_KERNEL_SAMPLES_DEFAULT 16
-#define VBL_VBL_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_VBL_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7}
+#define VBL_VBL_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_VBL_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7, 0}
 /* What render options' vbl_single_scattering = 0 selects (measured on samples/cloud.json,
  * docs/readme/beams.md): 0 equiangular, 1 photon beams. */
 #define VBL_VBL_BEAMS_SINGLE_SCATTERING_DEFAULT 0
@@ -60,5 +61,8 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
 void vbl_vbl_pass_end(const vbl_render_context* ctx, void* store);
 /* The VSL radius R_p the store uses (world units; tests, diagnostics). */
 double vbl_vbl_store_radius(const void* store);
+/* The pass's photon store (tests). */
+struct vbl_photon_store;
+const struct vbl_photon_store* vbl_vbl_store_photons(const void* store);
 
 #endif

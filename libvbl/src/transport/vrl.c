@@ -11,6 +11,7 @@
 #include "transport/photon_trace.h"
 #include "transport/single_scatter.h"
 #include "transport/surface_gather.h"
+#include "transport/vrl_tree.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vrl_store {
@@ -20,6 +21,7 @@ typedef struct vbl_vrl_store {
     double rr_distance;     /* world units; 0: no pruning */
     vbl_tracking_settings connect;
     vbl_surface_gather_settings gather; /* surfaces: eq 6 VRLs, surface VSLs of radius R_p */
+    vbl_vrl_tree tree;      /* settings.select > 0: the pass's light tree (vrl_tree.h) */
 } vbl_vrl_store;
 
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb)
@@ -40,6 +42,43 @@ double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl
     return vbl_v3_length(vbl_v3_sub(vbl_v3_madd(p0, a, s), vbl_v3_madd(q0, b, t)));
 }
 
+typedef struct vbl_piece_weight_ctx {
+    const vbl_render_context* ctx;
+    vbl_extinction_cursor cursor;
+    double floor;
+} vbl_piece_weight_ctx;
+
+/* Mean sigma_s (mean of R, G, B) at VBL_VRL_SELECT_DENSITY_POINTS midpoints of [v0, v1], floored
+ * at 1e-3 of the global majorant so that no piece with power loses its probability. */
+static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v1)
+{
+    vbl_piece_weight_ctx* w = user;
+    const vbl_scene* scene = w->ctx->scene;
+    double comps[VBL_MAX_MEDIA], sum = 0.0;
+    for (int k = 0; k < VBL_VRL_SELECT_DENSITY_POINTS; ++k) {
+        vbl_vec3 x = vbl_v3_madd(l->origin, l->direction, v0 + (v1 - v0) * (k + 0.5) / VBL_VRL_SELECT_DENSITY_POINTS);
+        if (!(vbl_extinction_eval(w->ctx->extinction, &w->cursor, x, comps) > 0.0)) continue;
+        for (int i = 0; i < scene->media_count; ++i) {
+            vbl_vec3 a = scene->media[i].albedo;
+            sum += comps[i] * (a.x + a.y + a.z) / 3.0;
+        }
+    }
+    return fmax(sum / VBL_VRL_SELECT_DENSITY_POINTS, w->floor);
+}
+
+vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_photon_store* photons, vbl_vrl_tree* tree)
+{
+    vbl_vec3 center;
+    double radius = 0.0;
+    if (!vbl_media_bounding_sphere(ctx->scene, &center, &radius) || !(radius > 0.0)) radius = 1.0;
+    vbl_piece_weight_ctx w;
+    w.ctx = ctx;
+    vbl_extinction_cursor_init(&w.cursor, ctx->extinction);
+    w.floor = ctx->extinction->max_sigma_t > 0.0 ? 1e-3 * ctx->extinction->max_sigma_t : 1.0;
+    return vbl_vrl_tree_build(tree, photons->vrls, photons->vrl_count, ctx->options.max_bounces,
+                              VBL_VRL_SELECT_FLOOR_REL * radius, VBL_VRL_SELECT_PIECE_REL * radius, vbl_piece_weight, &w);
+}
+
 vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store)
 {
     *store = NULL;
@@ -47,6 +86,8 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     if (settings->samples < 1)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl samples = %d must be >= 1", scene->path,
                          settings->samples);
+    if (settings->select < 0)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl select = %d must be >= 0", scene->path, settings->select);
     if (settings->rr_radius > 0.0 && !(settings->rr_min_probability > 0.0 && settings->rr_min_probability <= 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl rr_min_probability = %g is outside (0, 1]",
                          scene->path, settings->rr_min_probability);
@@ -81,6 +122,11 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
         free(s);
         return r;
     }
+    if (settings->select > 0 && (r = vbl_vrl_select_tree_build(ctx, &s->photons, &s->tree))) {
+        vbl_photon_store_free(&s->photons);
+        free(s);
+        return r;
+    }
     s->gather.vrls = 1;
     s->gather.kernel_samples = VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
     s->gather.g_camera = s->g_camera;
@@ -90,6 +136,7 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
         s->gather.vsl_radius = vbl_radius_at_pass(r0, alpha, 2, ctx->pass);
     }
     if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
+        vbl_vrl_tree_free(&s->tree);
         vbl_photon_store_free(&s->photons);
         free(s);
         return r;
@@ -108,6 +155,7 @@ void vbl_vrl_settings_from_options(const vbl_render_options* o, vbl_vrl_settings
     out->march_step = o->vrl_march_step;
     out->rr_radius = o->vrl_prune_radius;
     if (o->vrl_prune_min_probability > 0.0) out->rr_min_probability = o->vrl_prune_min_probability;
+    out->select = o->vrl_select;
 }
 
 static vbl_result vbl_vrl_pass_begin(const vbl_render_context* ctx, void** store)
@@ -133,6 +181,7 @@ void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store)
     vbl_vrl_store* s = store;
     if (!s) return;
     vbl_surface_gather_blue_noise_end(&s->gather);
+    vbl_vrl_tree_free(&s->tree);
     vbl_photon_store_free(&s->photons);
     free(s);
 }
@@ -144,6 +193,43 @@ double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tr
     if (vbl_ctx_occluded(ctx, a, dir, len)) return 0.0; /* surfaces block the connection */
     if (!vbl_extinction_ray_bounds(ctx->extinction, a, dir, 0.0, len, &t0, &t1) || !(t1 > t0)) return 1.0;
     return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, a, dir, t0, t1, settings, rng);
+}
+
+/* Adds one VRL's estimate of eq 7 over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *acc. */
+static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store* s, vbl_thread_state* ts,
+                             const vbl_vrl* l, double v0, double v1, vbl_vec3 o, vbl_vec3 d, double u0, double u1,
+                             const vbl_transmittance_cache* cache, double weight, vbl_rng* rng, vbl_vec3* acc)
+{
+    const vbl_scene* scene = ctx->scene;
+    const int S = s->settings.samples;
+    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_vrl_pair pair;
+    if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g))
+        return;
+    for (int k = 0; k < S; ++k) {
+        double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+        vbl_vrl_pair_sample ps;
+        if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
+        vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
+        vbl_vec3 to = vbl_v3_sub(xu, xv);
+        double w2 = vbl_v3_dot(to, to);
+        if (!(w2 > 0.0)) continue;
+        double w = sqrt(w2);
+        vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VRL point -> camera point */
+        double Tc = vbl_transmittance_cache_eval(cache, ps.u);
+        if (!(Tc > 0.0)) continue;
+        double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+        if (!(Tl > 0.0)) continue;
+        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
+        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
+        vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
+        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
+        vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
+        if (!(vbl_v3_max_component(f) > 0.0)) continue;
+        double Tw = vbl_vrl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
+        if (!(Tw > 0.0)) continue;
+        *acc = vbl_v3_madd(*acc, f, Tc * Tl * Tw * weight / (w2 * ps.pdf));
+    }
 }
 
 void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
@@ -163,51 +249,74 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     const int S = s->settings.samples;
-    const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
-    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
-    for (size_t j = 0; j < s->photons.vrl_count; ++j) {
-        const vbl_vrl* l = &s->photons.vrls[j];
-        if (M >= 0 && l->bounce + 2 > M) continue;
-        double weight = 1.0 / S;
-        if (s->rr_distance > 0.0) {
-            double h = vbl_segment_distance(cam_start, d, u1 - u0, l->origin, l->direction, l->length);
-            double q = h > s->rr_distance ? s->rr_distance / h : 1.0;
-            if (q < s->settings.rr_min_probability) q = s->settings.rr_min_probability;
-            if (q < 1.0) {
-                if (vbl_rng_uniform(rng) >= q) continue;
-                weight /= q;
-            }
+    if (s->settings.select > 0) {
+        /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
+        const int K = s->settings.select;
+        vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
+                                vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
+                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+        const double xi0 = vbl_rng_uniform(rng);
+        for (int k = 0; k < K; ++k) {
+            /* stratified over the K draws (each draw's marginal is still the tree pdf) */
+            double pdf, xi = (k + xi0) / K;
+            int j = vbl_vrl_tree_sample(&s->tree, &q, xi < 1.0 ? xi : 0x1.fffffffffffffp-1, &pdf);
+            if (j < 0 || !(pdf > 0.0)) break;
+            const vbl_vrl_tree_piece* pc = &s->tree.pieces[j];
+            vbl_vrl_estimate(ctx, s, ts, &s->photons.vrls[pc->vrl], pc->v0, pc->v1, o, d, u0, u1, &cache,
+                             1.0 / (S * K * pdf), rng, &acc);
         }
-        vbl_vrl_pair pair;
-        if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g))
-            continue;
-        for (int k = 0; k < S; ++k) {
-            double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
-            vbl_vrl_pair_sample ps;
-            if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
-            vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
-            vbl_vec3 to = vbl_v3_sub(xu, xv);
-            double w2 = vbl_v3_dot(to, to);
-            if (!(w2 > 0.0)) continue;
-            double w = sqrt(w2);
-            vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VRL point -> camera point */
-            double Tc = vbl_transmittance_cache_eval(&cache, ps.u);
-            if (!(Tc > 0.0)) continue;
-            double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
-            if (!(Tl > 0.0)) continue;
-            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
-            if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
-            vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
-            vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
-            vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
-            if (!(vbl_v3_max_component(f) > 0.0)) continue;
-            double Tw = vbl_vrl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
-            if (!(Tw > 0.0)) continue;
-            acc = vbl_v3_madd(acc, f, Tc * Tl * Tw * weight / (w2 * ps.pdf));
+    } else {
+        const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
+        for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+            const vbl_vrl* l = &s->photons.vrls[j];
+            if (M >= 0 && l->bounce + 2 > M) continue;
+            double weight = 1.0 / S;
+            if (s->rr_distance > 0.0) {
+                double h = vbl_segment_distance(cam_start, d, u1 - u0, l->origin, l->direction, l->length);
+                double q = h > s->rr_distance ? s->rr_distance / h : 1.0;
+                if (q < s->settings.rr_min_probability) q = s->settings.rr_min_probability;
+                if (q < 1.0) {
+                    if (vbl_rng_uniform(rng) >= q) continue;
+                    weight /= q;
+                }
+            }
+            vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, weight, rng, &acc);
         }
     }
     out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
+}
+
+int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                          const vbl_camera_sample* sample, vbl_rng* rng, double* contribution, double* visible,
+                          double* pdf)
+{
+    const vbl_vrl_store* s = store;
+    const int M = ctx->options.max_bounces;
+    for (size_t j = 0; s && j < s->photons.vrl_count; ++j) contribution[j] = 0.0;
+    *visible = 0.0;
+    vbl_transmittance_cache cache;
+    double u0, u1;
+    if (!s || !vbl_camera_segment_cache_to(ctx, ts, sample->origin, sample->direction, sample->t_max, rng, &cache, &u0,
+                                           &u1))
+        return 0;
+    *visible = vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT) / (u1 - u0);
+    if (pdf) {
+        vbl_vrl_tree_query q = {vbl_v3_madd(sample->origin, sample->direction, u0), sample->direction,
+                                vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
+                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+        for (size_t j = 0; j < s->photons.vrl_count; ++j) pdf[j] = 0.0;
+        for (int i = 0; i < s->tree.piece_count; ++i) pdf[s->tree.pieces[i].vrl] += vbl_vrl_tree_pdf(&s->tree, &q, i);
+    }
+    for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+        const vbl_vrl* l = &s->photons.vrls[j];
+        if (M >= 0 && l->bounce + 2 > M) continue;
+        vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+        vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, sample->origin, sample->direction, u0, u1, &cache, 1.0, rng,
+                         &acc);
+        contribution[j] = acc.x + acc.y + acc.z;
+    }
+    return 1;
 }
 
 const vbl_estimator vbl_estimator_vrl = {"vrl", 1, vbl_vrl_pass_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};

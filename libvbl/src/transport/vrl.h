@@ -28,7 +28,12 @@
  * segment and the VRL segment and R = rr_radius * (radius of the media's bounding sphere), a VRL
  * is kept with probability q = clamp(R / h, rr_min_probability, 1) and its estimate divided by q,
  * so pruning is unbiased; the floor bounds the added variance (the estimate grows at most by
- * 1 / rr_min_probability). */
+ * 1 / rr_min_probability).
+ *
+ * Light selection (select = K > 0): instead of every VRL, each camera sample draws K VRLs from a
+ * light tree over the pass's VRLs by stochastic traversal (vrl_tree.h; Yuksel 2019, Estevez and
+ * Kulla 2018) and weights each estimate by 1 / (K pdf): unbiased, O(K log N) per camera sample
+ * instead of O(N), so a pass can afford many more light paths. */
 #ifndef VBL_TRANSPORT_VRL_H
 #define VBL_TRANSPORT_VRL_H
 
@@ -43,9 +48,25 @@ typedef struct vbl_vrl_settings {
     double rr_min_probability; /* floor of the survival probability, in (0, 1] */
     double surface_radius0;    /* surface VSL R_0 in world units; <= 0: vbl_surface_vsl_default_r0 */
     double surface_alpha;      /* eq 11 alpha of the surface VSL radius, (0, 1]; 0: 0.7 */
+    int select;                /* > 0: K VRLs drawn per camera sample from the light tree
+                                  (vrl_tree.h, unbiased; rr_radius is then unused); 0: every VRL */
 } vbl_vrl_settings;
 
-#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0}
+#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0}
+
+/* Light-tree selection: distance floor as a fraction of the media's bounding radius, and the
+ * camera transmittance below which the camera segment is not used for the importance. */
+#define VBL_VRL_SELECT_FLOOR_REL 1e-3
+#define VBL_VRL_SELECT_VISIBLE_CUT 1e-3
+#define VBL_VRL_SELECT_DENSITY_POINTS 4 /* sigma_s samples along a piece for its tree mass */
+#define VBL_VRL_SELECT_PIECE_REL 0.05   /* tree pieces at most this x the media's bounding radius */
+
+struct vbl_vrl_tree;
+struct vbl_photon_store;
+/* The light tree of a pass's photon store as the vrl and vbl estimators build it (floor
+ * VBL_VRL_SELECT_FLOOR_REL x the media's bounding radius, ctx->options.max_bounces). */
+vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const struct vbl_photon_store* photons,
+                                     struct vbl_vrl_tree* tree);
 
 /* The settings of render options (vrl_* fields; zeros in samples / min probability mean the
  * defaults). The estimator vbl_estimator_vrl uses these. */
@@ -68,6 +89,16 @@ const struct vbl_photon_store* vbl_vrl_store_photons(const void* store);
  * and a camera-ray point), clipped to the media; 1 outside them; 0 when a surface blocks it. */
 double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
                                      vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng);
+
+/* Diagnostics (bench/bench_vrl_profile.c): each VRL's volume_from_volume estimate (sum of R, G,
+ * B) for one camera sample into contribution[0 .. vrl_count-1] (0 for VRLs that cannot
+ * contribute), and the fraction of the camera ray's media overlap before its cached
+ * transmittance falls below VBL_VRL_SELECT_VISIBLE_CUT; pdf (may be NULL; the store must have
+ * select > 0): each VRL's light-tree selection probability for this ray. Returns 0 if the ray
+ * misses the media. */
+int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                          const vbl_camera_sample* sample, vbl_rng* rng, double* contribution, double* visible,
+                          double* pdf);
 
 /* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);
