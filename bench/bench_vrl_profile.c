@@ -12,6 +12,14 @@
  *     samples); the number of VRLs that hold 50 / 90 / 99 % of the pixel's total (median over
  *     pixels with a non-zero total), and the visible fraction of the camera ray's media overlap
  *     (cached transmittance >= VBL_VRL_SELECT_VISIBLE_CUT).
+ *   - efficiency on one store: per-pixel variance of 12 camera samples (every 3rd pixel), every
+ *     VRL vs K selected (heavy tails make it noisy: a relative variance near 12 means one sample
+ *     dominated);
+ *   - selection quality: sum_j c_j^2 / pdf_j / (sum_j c_j)^2 of one light drawn from the tree
+ *     (1 = ideal) and of uniform selection, median and mean over pixels.
+ * Environment (diagnostics): VRL_REPS (samples per VRL for the concentration, default 4),
+ * VRL_STRIDE (every n-th pixel, default 1), VRL_DEBUG / VRL_DEBUG2 (print the top VRLs of some
+ * pixels by contribution and by tree pdf).
  * Times are wall clock with --threads threads (default 1: per-sample costs), on a shared machine:
  * compare ratios within one run. */
 #include <math.h>

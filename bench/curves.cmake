@@ -2,6 +2,7 @@
 # method and quality preset on the sample cloud, a dense anisotropic cloud and the smoky room
 # (bench/bench_curves.c).
 # Run: build/bench/bench_curves --budget 30 --csv bench/results/curves.csv
+#      (issue 13's light-tree rows: --methods pt,vrl,vbl,vrl-sel,vbl-sel)
 #      /usr/bin/python3 bench/plot_curves.py bench/results/curves.csv docs/images/error_vs_time.png
 add_executable(bench_curves ${CMAKE_CURRENT_LIST_DIR}/bench_curves.c ${CMAKE_CURRENT_LIST_DIR}/bench_reference.c)
 set_target_properties(bench_curves PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
