@@ -12,8 +12,10 @@
  *    mean of volume_from_volume over 800 camera samples with select = 4 agrees with evaluating
  *    every VRL (select = 0) within 4 combined standard errors, for vrl and for vbl (fixed radius);
  *    both stores hold the same VRLs (the photon trace does not depend on select).
- * Mutations checked to fail: dropping the 1 / pdf weight (estimate 3 off by > 30 sigma); taking
- * the branch probability of the wrong child in vbl_vrl_tree_pdf (sum != 1, chi-square fails). */
+ * Mutations checked to fail: dropping the 1 / pdf weight in vrl (3: z = -27); taking the branch
+ * probability of the wrong child in vbl_vrl_tree_pdf (1: draw pdf != recomputed pdf, 2 fails; the
+ * pdfs still sum to 1, a permutation); a distorted branch probability in the traversal only
+ * (1: draw pdf != recomputed pdf). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
