@@ -1,6 +1,7 @@
 /* bench_volume [FILE.vdb] [--density-scale S]: density lookups/s (PNanoVDB trilinear vs OpenVDB
  * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
- * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads. */
+ * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads, and ratio /
+ * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -58,6 +59,8 @@ static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
     }
 }
 
+static double g_majorant_scale = 1.0; /* vbl_tracking_settings.majorant_scale of run_estimator */
+
 /* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
 static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, int nrays, int spr,
                             vbl_transmittance_estimator est, int use_global, int threads, double* mean_var,
@@ -70,7 +73,7 @@ static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, in
     {
         vbl_extinction_cursor cur;
         vbl_extinction_cursor_init(&cur, ext);
-        vbl_tracking_settings set = {est, 0.0, use_global};
+        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale};
 #pragma omp for schedule(dynamic, 4)
         for (int r = 0; r < nrays; ++r) {
             double s = 0.0, s2 = 0.0;
@@ -186,6 +189,28 @@ int main(int argc, char** argv)
                    vbl_transmittance_estimator_name((vbl_transmittance_estimator)e), g ? "global" : "DDA", mt, var, lq,
                    q / s1, q / s2, e == VBL_TRANSMITTANCE_RAY_MARCHING ? "n/a (biased)" : eff);
         }
+
+    /* 4. Majorant scale (issue 14, shadow rays through thin smoke): tentative collisions at k x the
+     * majorant, at the density scale above and at a quarter of it (thin). */
+    printf("\n## Majorant scale k (ratio / residual tracking, DDA, 1 thread, %d rays x %d estimates)\n", nrays, spr);
+    printf("| density scale | estimator | k | mean T | variance | lookups/query | queries/s | efficiency 1/(var x s) |\n"
+           "|---|---|---|---|---|---|---|---|\n");
+    for (int thin = 0; thin < 2; ++thin) {
+        vbl_extinction ext_k;
+        vbl_extinction_init(&ext_k);
+        vbl_extinction_add(&ext_k, v, thin ? 0.25 * scale : scale, NULL);
+        for (int e = VBL_TRANSMITTANCE_RATIO_TRACKING; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e)
+            for (double k = 1.0; k <= 8.0; k *= 2.0) {
+                g_majorant_scale = k;
+                double var, mt, lq;
+                double s1 = run_estimator(&ext_k, rays, nrays, spr, (vbl_transmittance_estimator)e, 0, 1, &var, &mt, &lq);
+                double q = (double)nrays * spr;
+                printf("| %.3g | %s | %g | %.4f | %.3g | %.1f | %.3g | %.3g |\n", thin ? 0.25 * scale : scale,
+                       vbl_transmittance_estimator_name((vbl_transmittance_estimator)e), k, mt, var, lq, q / s1,
+                       var > 0.0 ? 1.0 / (var * s1 / q) : 0.0);
+            }
+    }
+    g_majorant_scale = 1.0;
     free(rays);
     vbl_volume_release(v);
     return 0;

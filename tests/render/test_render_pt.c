@@ -240,11 +240,15 @@ static void single_scatter_case(int point)
         int max_bounces;
         const vbl_estimator* est;
         const char* layer;
-    } runs[3] = {{"pt max_bounces=1", 1, NULL, "volume_direct"},
-                 {"pt unlimited (volume_direct layer)", -1, NULL, "volume_direct"},
-                 {"single-scatter estimator", -1, &vbl_estimator_single_scatter, "volume_direct"}};
-    for (int k = 0; k < 3; ++k) {
+        int pt_equiangular;
+    } runs[4] = {{"pt max_bounces=1", 1, NULL, "volume_direct", 1},
+                 {"pt unlimited (volume_direct layer)", -1, NULL, "volume_direct", 1},
+                 {"single-scatter estimator", -1, &vbl_estimator_single_scatter, "volume_direct",
+                  1},
+                 {"pt max_bounces=1, equiangular off", 1, NULL, "volume_direct", 0}};
+    for (int k = 0; k < 4; ++k) {
         vbl_render_options o = options_for(2, 32, runs[k].max_bounces, 100 + k);
+        o.pt_equiangular = runs[k].pt_equiangular;
         vbl_film* film = NULL;
         if (runs[k].est)
             assert_int_equal(vbl_render_with_estimator(scene, &o, runs[k].est, &film), VBL_SUCCESS);

@@ -415,7 +415,7 @@ static void test_parity_global_majorant(void** state)
         const int n = 8000;
         for (int g = 0; g < 2; ++g) {
             uint64_t before = vbl_extinction_cursor_lookups(&cur);
-            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, g};
+            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, g, 1.0};
             for (int i = 0; i < n; ++i) {
                 vbl_rng rng = vbl_rng_make(11, (uint64_t)(e * 2 + g), (uint64_t)i);
                 double x = vbl_transmittance_estimate(&ext, &cur, o, d, 0.0, 5.0, &set, &rng);
@@ -431,6 +431,50 @@ static void test_parity_global_majorant(void** state)
         assert_true(lookups[0] < lookups[1]); /* the DDA saves lookups */
         if (!(m0 > 0.05 && m0 < 0.95)) fprintf(stderr, "parity ray T = %g\n", m0);
         assert_true(m0 > 0.05 && m0 < 0.95); /* the test ray is neither empty nor opaque */
+    }
+    vt_free(v);
+}
+
+/* majorant_scale k: delta, ratio and residual tracking stay unbiased (same mean as k = 1 within
+ * 4 sigma), ratio tracking's variance falls and its lookups grow about k-fold. */
+static void test_majorant_scale(void** state)
+{
+    (void)state;
+    double m[3][4];
+    vt_uniform_map(m, 0.2, 0.0, 0.0, 0.0);
+    vbl_volume* v = vt_make(BMIN, BMAX, fn_blob, NULL, m);
+    vbl_extinction ext;
+    vbl_extinction_init(&ext);
+    assert_int_equal(vbl_extinction_add(&ext, v, 0.4, NULL), VBL_SUCCESS);
+    vbl_extinction_cursor cur;
+    vbl_extinction_cursor_init(&cur, &ext);
+    vbl_vec3 o = vbl_v3(-0.5, 1.3, 1.6), d = vbl_v3_normalize(vbl_v3(1.0, 0.2, 0.1));
+    const double scales[2] = {1.0, 3.0};
+    for (int e = 0; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e) {
+        double mean[2], var[2];
+        uint64_t lookups[2];
+        const int n = 20000;
+        for (int k = 0; k < 2; ++k) {
+            uint64_t before = vbl_extinction_cursor_lookups(&cur);
+            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, scales[k]};
+            double s = 0.0, s2 = 0.0;
+            for (int i = 0; i < n; ++i) {
+                vbl_rng rng = vbl_rng_make(23, (uint64_t)(e * 2 + k), (uint64_t)i);
+                double x = vbl_transmittance_estimate(&ext, &cur, o, d, 0.0, 5.0, &set, &rng);
+                assert_true(x >= 0.0 && x <= 1.0);
+                s += x;
+                s2 += x * x;
+            }
+            lookups[k] = vbl_extinction_cursor_lookups(&cur) - before;
+            mean[k] = s / n;
+            var[k] = s2 / n - mean[k] * mean[k];
+        }
+        printf("estimator %d: T %.5f / %.5f (k = 1 / 3), variance %.3g / %.3g, lookups %.2f / %.2f per query\n", e,
+               mean[0], mean[1], var[0], var[1], (double)lookups[0] / n, (double)lookups[1] / n);
+        assert_within(mean[1], sqrt((var[0] + var[1]) / n), mean[0], 4.0, "majorant scale");
+        assert_true(mean[0] > 0.1 && mean[0] < 0.9);
+        assert_true(lookups[1] > 2 * lookups[0]);
+        if (e == VBL_TRANSMITTANCE_RATIO_TRACKING) assert_true(var[1] < 0.6 * var[0]);
     }
     vt_free(v);
 }
@@ -472,7 +516,7 @@ static void test_multi_component(void** state)
     for (int e = 0; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e) {
         double sum = 0, sum2 = 0;
         const int n = 8000;
-        vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0};
+        vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, 1.0};
         for (int i = 0; i < n; ++i) {
             vbl_rng rng = vbl_rng_make(12, (uint64_t)e, (uint64_t)i);
             double x = vbl_transmittance_estimate(&ext, &cur, o, d, 0.0, 40.0, &set, &rng);
@@ -623,6 +667,7 @@ int main(void)
         cmocka_unit_test(test_ratio_cache_overflow),
         cmocka_unit_test(test_free_flight_distribution),
         cmocka_unit_test(test_parity_global_majorant),
+        cmocka_unit_test(test_majorant_scale),
         cmocka_unit_test(test_multi_component),
         cmocka_unit_test(test_extremes),
         cmocka_unit_test(test_empty_grid),

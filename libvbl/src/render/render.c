@@ -170,6 +170,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     ctx.tracking.estimator = vbl_uncached(options->transmittance);
     ctx.tracking.march_step = 0.0;
     ctx.tracking.use_global_majorant = 0;
+    ctx.tracking.majorant_scale = options->transmittance_majorant_scale;
     ctx.threads = options->threads > 0 ? options->threads : omp_get_max_threads();
     if (ctx.threads < 1) ctx.threads = 1;
 

@@ -7,7 +7,9 @@
  * multiplied by the scattering kernel / sigma_t at a real collision; reaching the surface has
  * probability T(x, x_s)); one light chosen uniformly per vertex for NEE, with surface occlusion
  * and media transmittance on the shadow ray; quad/environment lights combine NEE and
- * phase/BRDF sampling by MIS (Veach 1997, eq. 9.13 balance / 9.14 power heuristic). Lights do
+ * phase/BRDF sampling by MIS (Veach 1997, eq. 9.13 balance / 9.14 power heuristic); point/spot
+ * lights add an equiangular distance sample on every segment, MIS-combined with the collision's
+ * NEE (Kulla and Fajardo 2012; transport/pt_equiangular.h, option pt_equiangular). Lights do
  * not occlude; surfaces occlude everything. Contributions are classified by the camera-visible
  * vertex and the vertex before it (vbl_class_for_vertices). */
 #include "transport/pt.h"
@@ -16,6 +18,7 @@
 
 #include "scene/lights.h"
 #include "scene/media.h"
+#include "transport/pt_equiangular.h"
 
 static void vbl_add_scaled(vbl_vec3* acc, vbl_vec3 a, vbl_vec3 b, double s)
 {
@@ -75,26 +78,35 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
 
 /* Picks one light uniformly and samples it from x; 0 if the sample carries no light. */
 static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, vbl_rng* rng, vbl_light_sample* ls,
-                             double* select_pdf)
+                             double* select_pdf, const vbl_light** picked)
 {
     if (scene->light_count == 0) return 0;
     *select_pdf = 1.0 / scene->light_count;
     int pick = (int)(vbl_rng_uniform(rng) * scene->light_count);
     if (pick >= scene->light_count) pick = scene->light_count - 1;
+    if (picked) *picked = &scene->lights[pick];
     double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
     if (!vbl_light_sample_incident(&scene->lights[pick], x, u1, u2, ls)) return 0;
     return vbl_v3_max_component(ls->li) > 0.0;
 }
 
-/* Next-event estimation at a medium vertex x reached travelling along `travel`. */
-static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x,
-                                     vbl_vec3 travel, double sigma_t, const double* component_sigma_t,
+/* A free-flight segment: origin + t travel, t up to t_surface (INFINITY: none). */
+typedef struct vbl_pt_segment {
+    vbl_vec3 origin, travel;
+    double t_surface;
+} vbl_pt_segment;
+
+/* Next-event estimation at the medium vertex at distance t on segment `seg`. */
+static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
+                                     double t, double sigma_t, const double* component_sigma_t,
                                      const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
+    vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
     vbl_light_sample ls;
     double select_pdf;
-    if (!vbl_pt_pick_light(scene, x, rng, &ls, &select_pdf)) return;
+    const vbl_light* light = NULL;
+    if (!vbl_pt_pick_light(scene, x, rng, &ls, &select_pdf, &light)) return;
     double cos_theta = vbl_v3_dot(travel, ls.wi);
     vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
@@ -104,6 +116,8 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     if (!ls.is_delta)
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
                            vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
+    else /* against the segment's equiangular sample (pt_equiangular.h) */
+        w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t);
     /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
     double s = T * w / (select_pdf * ls.pdf * sigma_t);
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
@@ -121,7 +135,7 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     const vbl_material* m = &scene->materials[hit->material];
     vbl_light_sample ls;
     double select_pdf;
-    if (!vbl_pt_pick_light(scene, hit->position, rng, &ls, &select_pdf)) return;
+    if (!vbl_pt_pick_light(scene, hit->position, rng, &ls, &select_pdf, NULL)) return;
     if (!(vbl_v3_dot(ls.wi, hit->geometric_normal) > 0.0)) return; /* below the surface: opaque */
     double cos_i = vbl_v3_dot(ls.wi, hit->shading_normal);
     if (!(cos_i > 0.0)) return;
@@ -152,7 +166,19 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     double prev_pdf = 0.0;
     double components[VBL_MAX_MEDIA] = {0};
     vbl_pt_path path = {0, 0, -1};
+    const int equiangular = vbl_pt_equiangular_active(ctx);
+    /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
+     * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
+     * majorant (their noise is dominated by the path, not by T) */
+    const vbl_render_context* first_ctx = ctx;
+    vbl_render_context tight_ctx;
+    if (ctx->tracking.majorant_scale > 1.0) {
+        tight_ctx = *ctx;
+        tight_ctx.tracking.majorant_scale = 1.0;
+        ctx = &tight_ctx;
+    }
     for (;;) {
+        const vbl_render_context* nee_ctx = path.events == 0 ? first_ctx : ctx;
         vbl_surface_hit hit;
         int on_surface = vbl_surfaces_intersect(scene->surfaces, origin, direction, 0.0, INFINITY, &hit);
         double t_surface = on_surface ? hit.t : INFINITY;
@@ -160,6 +186,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         int collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
         double t_limit = collided ? t : t_surface;
         vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf, beta, out);
+        if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
+            /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
+            vbl_pt_path next = path;
+            vbl_pt_vertex(&next, 0);
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, rng, &out->L[vbl_pt_class(&next)]);
+        }
         if (!collided && !on_surface) break; /* escaped */
         if (collided && !(sigma_t > 0.0)) break;
 
@@ -170,7 +202,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double pdf = 0.0;
         if (collided) {
             vbl_vec3 x = vbl_v3_madd(origin, direction, t);
-            vbl_pt_next_event_medium(ctx, ts, x, direction, sigma_t, components, &path, beta, rng, out);
+            vbl_pt_segment seg = {origin, direction, t_surface};
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, components, &path, beta, rng, out);
             if (max_bounces >= 0 && path.events >= max_bounces) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
             u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
@@ -178,7 +211,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
-            vbl_pt_next_event_surface(ctx, ts, &hit, wo, &path, beta, rng, out);
+            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, beta, rng, out);
             if (max_bounces >= 0 && path.events >= max_bounces) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
             const vbl_material* m = &scene->materials[hit.material];

@@ -1,6 +1,7 @@
 /* Volumetric path tracer, the reference method: delta tracking for free paths, next-event
  * estimation with the render's transmittance estimator for shadow rays, MIS (light vs phase
- * sampling) for quad and environment lights, Russian roulette on throughput, unlimited bounces
+ * sampling) for quad and environment lights, equiangular NEE for point/spot lights MIS-combined
+ * with the collision's NEE (pt_equiangular.h), Russian roulette on throughput, unlimited bounces
  * unless options.max_bounces >= 0. Contributions are classified by scattering events. */
 #ifndef VBL_TRANSPORT_PT_H
 #define VBL_TRANSPORT_PT_H

@@ -41,6 +41,7 @@ typedef struct vbl_tracker {
     double t_stop, sigma_stop;
     vbl_rng* rng;
     int sampling; /* 1: free-flight sampling (a real collision must be produced, not a weight) */
+    double mu_scale; /* > 1: tentative collisions at this multiple of the majorant (estimates only) */
 } vbl_tracker;
 
 /* A segment of constant, known extinction (see above). */
@@ -132,6 +133,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
         }
         double sigma_c = residual ? seg.minorant : 0.0;
         double mu = seg.majorant - sigma_c;
+        if (tr->mu_scale > 1.0) mu *= tr->mu_scale;
         if (residual && sigma_c > 0.0) {
             tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
             if (!(tr->weight > 0.0)) { /* underflow: T is 0 to double precision */
@@ -233,7 +235,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RATIO_TRACKING:
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
-        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0};
+        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -247,7 +249,7 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -263,7 +265,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0};
     int records = 0;
     double t_last = t0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

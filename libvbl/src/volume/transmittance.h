@@ -11,6 +11,11 @@ typedef struct vbl_tracking_settings {
     vbl_transmittance_estimator estimator;
     double march_step;        /* ray marching step (world units); <= 0: adaptive */
     int use_global_majorant;  /* 1: ignore the majorant grid (parity tests, benchmarks) */
+    /* > 1: delta / ratio / residual tracking draw tentative collisions at majorant_scale times the
+     * (residual) majorant: majorant_scale times the lookups, lower variance (ratio tracking of a
+     * constant sigma over length L: relative variance exp(sigma^2 L / mu) - 1). <= 1 (0 in older
+     * initializers): the tight majorant. Free-flight sampling and the caches ignore it. */
+    double majorant_scale;
 } vbl_tracking_settings;
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached
