@@ -16,7 +16,7 @@ import ctypes
 import ctypes.util
 import os
 
-__all__ = ["VblError", "version", "library_path", "Scene", "Volume", "Film", "render",
+__all__ = ["VblError", "version", "library_path", "Scene", "Volume", "Film", "render", "merge", "TRANSPORT_LAYERS",
            "TransmittanceResult", "RENDER_OPTION_FIELDS", "RENDER_OPTIONS"]
 
 # ---- library ---------------------------------------------------------------------------------
@@ -245,6 +245,8 @@ _film_layer_channel_name = _proto("vbl_film_layer_channel_name", ctypes.c_char_p
 _film_layer = _proto("vbl_film_layer", ctypes.POINTER(ctypes.c_float), _P, ctypes.c_char_p,
                      ctypes.POINTER(ctypes.c_int))
 _film_get_stats = _proto("vbl_film_get_stats", _R, _P, ctypes.POINTER(_FilmStats))
+_film_merge = _proto("vbl_film_merge", _R, ctypes.POINTER(_P), ctypes.c_int, ctypes.POINTER(_P))
+_transport_class_name = _proto("vbl_transport_class_name", ctypes.c_char_p, ctypes.c_int)
 
 # ---- errors ----------------------------------------------------------------------------------
 
@@ -613,3 +615,21 @@ def render(scene, callback=None, **overrides):
         return film
     _check(code)
     return film
+
+
+# The transport-class layer names in film order (they sum to the beauty in this order).
+TRANSPORT_LAYERS = tuple(_decode(_transport_class_name(c)) for c in range(7))
+
+
+def merge(films):
+    """Merges films of disjoint pass ranges of one render (render(..., first_pass=A, passes=B))
+    into the film one render of all their passes gives, to float rounding (vbl_film_merge: weighted
+    means by passes, summed samples, variance of the mean, Z weighted by passes x alpha, the beauty
+    re-summed from the transport layers)."""
+    films = list(films)
+    if not films:
+        raise _argument_error("merge(): no films")
+    handles = (_P * len(films))(*[film._handle for film in films])
+    handle = _P()
+    _check(_film_merge(handles, len(films), ctypes.byref(handle)))
+    return Film(handle)
