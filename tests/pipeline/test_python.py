@@ -244,6 +244,10 @@ class TestRender(unittest.TestCase):
         with self.assertRaises(vbl.VblError) as raised:
             vbl.merge([parts[0], parts[0]])
         self.assertIn("overlaps", raised.exception.message)
+        # a 1-pass checkpoint resumed to 4 passes
+        resumed = vbl.resume(scene, parts[1], passes=4, seed=5, threads=2)
+        self.assertEqual(resumed.stats["passes"], 4)
+        numpy.testing.assert_allclose(resumed.layer(""), single.layer(""), rtol=4e-7, atol=0)
 
     def test_vdb_overrides(self):
         scene = vbl.Scene(self.scene_path, vdb_overrides=[os.path.join(FIXTURES, "box.nvdb")])

@@ -141,6 +141,40 @@ static void test_merge_equals_single_render_vrl(void** state)
     expect_merge_equals_single(VBL_RENDER_VRL);
 }
 
+/* vbl_render_resume: a 1-pass checkpoint continued to 4 passes = one 4-pass render. */
+static void test_resume_equals_single_render(void** state)
+{
+    (void)state;
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_load(scene_path, &scene), VBL_SUCCESS);
+    vbl_film* all = render_range(scene, VBL_RENDER_PT, 0, 4);
+    vbl_film* checkpoint = render_range(scene, VBL_RENDER_PT, 0, 1);
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.threads = 2;
+    vbl_film* resumed = NULL;
+    assert_int_equal(vbl_render_resume(scene, &o, checkpoint, &resumed), VBL_SUCCESS);
+    vbl_film_stats s;
+    memset(&s, 0, sizeof s);
+    s.size = sizeof s;
+    assert_int_equal(vbl_film_get_stats(resumed, &s), VBL_SUCCESS);
+    assert_int_equal(s.passes, 4);
+    const size_t n = 12 * 9 * 4;
+    const float* a = vbl_film_layer(resumed, "", NULL);
+    const float* b = vbl_film_layer(all, "", NULL);
+    for (size_t v = 0; v < n; ++v) assert_true(fabs((double)a[v] - b[v]) <= 4e-7 * (fabs(a[v]) + fabs(b[v])));
+    o.seed = 6; /* another render */
+    vbl_film* bad = NULL;
+    assert_int_equal(vbl_render_resume(scene, &o, checkpoint, &bad), VBL_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(vbl_last_error_message(), "seed"));
+    assert_null(bad);
+    vbl_clear_error();
+    vbl_film_release(resumed);
+    vbl_film_release(checkpoint);
+    vbl_film_release(all);
+    vbl_scene_release(scene);
+}
+
 static void test_merge_refusals(void** state)
 {
     (void)state;
@@ -259,6 +293,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_merge_equals_single_render_pt),
         cmocka_unit_test(test_merge_equals_single_render_vrl),
+        cmocka_unit_test(test_resume_equals_single_render),
         cmocka_unit_test(test_merge_refusals),
         cmocka_unit_test(test_film_from_pixels_rules),
         cmocka_unit_test(test_transport_class_names),

@@ -75,6 +75,19 @@ VBL_API vbl_result vbl_film_merger_add(vbl_film_merger* merger, const vbl_film* 
 VBL_API vbl_result vbl_film_merger_finish(vbl_film_merger* merger, vbl_film** out_film);
 VBL_API void vbl_film_merger_destroy(vbl_film_merger* merger);
 
+/* ---- checkpoint / resume --------------------------------------------------------------- */
+
+/* Continues `base` (a film of this scene and options: same method, spp, light paths and seed,
+ * base.first_pass == options->first_pass, fewer passes than options->passes; a checkpoint from
+ * vbl_render_snapshot, an interrupted or time-limited render, or a file read back) to
+ * options->passes passes: renders the passes it lacks with the single render's seeds and merges
+ * (vbl_film_merge). The result equals vbl_render of all the passes to float rounding. A base with
+ * all the passes already is returned retained. The pass callback sees only the passes rendered now
+ * (progress->first_pass = where they start). Errors: VBL_ERROR_INVALID_ARGUMENT naming what differs;
+ * vbl_render's. */
+VBL_API vbl_result vbl_render_resume(const vbl_scene* scene, const vbl_render_options* options,
+                                     const vbl_film* base, vbl_film** out_film);
+
 #ifdef __cplusplus
 }
 #endif
