@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "exr_film.h"
 #include "merge.h"
 
 #define VBL_MERGE_MAX_INPUTS 4096
@@ -247,50 +248,6 @@ static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int 
     return code;
 }
 
-/* Running sums of one channel over the inputs read so far (double): merge.h's rules, streamed so
- * that only the first input and the one being read are in memory. */
-typedef struct vbl_merge_acc {
-    vbl_merge_kind kind;
-    double* sum;    /* MEAN: sum n_i x_i; SUM: sum x_i; VARIANCE: sum n_i^2 x_i; DEPTH: sum n_i A_i x_i */
-    double* weight; /* DEPTH: sum n_i A_i over inputs with x > 0 */
-    double* plain;  /* DEPTH: sum n_i x_i (used where no input has a weight) */
-} vbl_merge_acc;
-
-static void vbl_merge_accumulate(vbl_merge_acc* acc, int passes, const float* x, const float* alpha, size_t n)
-{
-    const double p = passes;
-    for (size_t i = 0; i < n; ++i) {
-        switch (acc->kind) {
-        case VBL_MERGE_SUM: acc->sum[i] += x[i]; break;
-        case VBL_MERGE_VARIANCE: acc->sum[i] += p * p * x[i]; break;
-        case VBL_MERGE_DEPTH: {
-            double a = alpha ? alpha[i] : 1.0;
-            double w = x[i] > 0.0f && a > 0.0 ? p * a : 0.0;
-            acc->sum[i] += w * x[i];
-            acc->weight[i] += w;
-            acc->plain[i] += p * x[i];
-            break;
-        }
-        default: acc->sum[i] += p * x[i]; break;
-        }
-    }
-}
-
-static void vbl_merge_finish(const vbl_merge_acc* acc, int total, size_t n, float* out)
-{
-    const double N = total > 0 ? total : 1;
-    for (size_t i = 0; i < n; ++i) {
-        double v;
-        switch (acc->kind) {
-        case VBL_MERGE_SUM: v = acc->sum[i]; break;
-        case VBL_MERGE_VARIANCE: v = acc->sum[i] / (N * N); break;
-        case VBL_MERGE_DEPTH: v = acc->weight[i] > 0.0 ? acc->sum[i] / acc->weight[i] : acc->plain[i] / N; break;
-        default: v = acc->sum[i] / N; break;
-        }
-        out[i] = (float)v;
-    }
-}
-
 int vbl_cmd_merge(int argc, char** argv)
 {
     const char* out_path = NULL;
@@ -343,35 +300,29 @@ int vbl_cmd_merge(int argc, char** argv)
             code = VBL_EXIT_BAD_INPUT;
         }
     }
-    vbl_merge_acc acc[VBL_MERGE_MAX_CHANNELS];
-    memset(acc, 0, sizeof acc);
-    for (int c = 0; c < channel_count && code == VBL_EXIT_OK; ++c) {
-        acc[c].kind = vbl_merge_kind_of(vbl_exr_image_channel_name(in[0].image, c));
-        if (acc[c].kind == VBL_MERGE_BEAUTY) continue; /* re-summed from the transport layers */
-        int depth = acc[c].kind == VBL_MERGE_DEPTH;
-        acc[c].sum = calloc(n ? n : 1, sizeof(double));
-        if (depth) {
-            acc[c].weight = calloc(n ? n : 1, sizeof(double));
-            acc[c].plain = calloc(n ? n : 1, sizeof(double));
-        }
-        if (!acc[c].sum || (depth && (!acc[c].weight || !acc[c].plain))) {
-            fprintf(stderr, "vbl merge: out of memory\n");
-            code = VBL_EXIT_FAILURE;
-        }
-    }
-    /* every input (the first included), read one at a time and added to the sums */
+    /* every input (the first included), read one at a time into the library's merger
+     * (vbl_film_merger: double running sums; vbl/vbl_film.h has the rules) */
+    vbl_film_merger* merger = NULL;
+    if (code == VBL_EXIT_OK && vbl_film_merger_create(&merger)) code = vbl_cli_fail(VBL_ERROR_OUT_OF_MEMORY);
     for (int i = 0; i < count && code == VBL_EXIT_OK; ++i) {
         if (i > 0) code = vbl_merge_open(&in[i], &in[0], &first_id);
         if (code != VBL_EXIT_OK) break;
-        const vbl_exr_image* image = in[i].image;
-        int a = vbl_exr_image_find_channel(image, "A");
-        const float* alpha = a >= 0 ? vbl_exr_image_channel_pixels(image, a) : NULL;
-        for (int c = 0; c < channel_count; ++c) {
-            if (!acc[c].sum) continue;
-            const char* name = vbl_exr_image_channel_name(in[0].image, c);
-            vbl_merge_accumulate(&acc[c], in[i].passes,
-                                 vbl_exr_image_channel_pixels(image, vbl_exr_image_find_channel(image, name)), alpha,
-                                 n);
+        for (int j = 0; j < i; ++j)
+            if (in[i].first_pass <= in[j].first_pass + in[j].passes - 1 &&
+                in[j].first_pass <= in[i].first_pass + in[i].passes - 1) {
+                fprintf(stderr, "vbl merge: %s (passes %d-%d) overlaps %s (passes %d-%d): pass ranges must be disjoint\n",
+                        in[i].path, in[i].first_pass, in[i].first_pass + in[i].passes - 1, in[j].path, in[j].first_pass,
+                        in[j].first_pass + in[j].passes - 1);
+                code = VBL_EXIT_BAD_INPUT;
+            }
+        if (code != VBL_EXIT_OK) break;
+        vbl_film* film = NULL;
+        vbl_result r = vbl_cli_film_from_exr(in[i].image, in[i].path, in[i].passes, &film);
+        if (!r) r = vbl_film_merger_add(merger, film);
+        vbl_film_release(film);
+        if (r) {
+            fprintf(stderr, "vbl merge: %s: %s\n", in[i].path, vbl_last_error_message());
+            code = vbl_cli_exit_code(r) == VBL_EXIT_USAGE ? VBL_EXIT_BAD_INPUT : vbl_cli_exit_code(r);
         }
         if (i > 0) {
             vbl_exr_image_release(in[i].image);
@@ -422,43 +373,22 @@ int vbl_cmd_merge(int argc, char** argv)
         last = next - 1;
     }
 
-    /* the merged planes: channels from the sums, beauty R,G,B re-summed in film order */
+    /* the merged film (beauty R,G,B re-summed from the transport layers) as the first input's channels */
     float* planes[VBL_MERGE_MAX_CHANNELS] = {NULL};
+    vbl_film* merged = NULL;
+    if (code == VBL_EXIT_OK) {
+        vbl_result r = vbl_film_merger_finish(merger, &merged);
+        if (r) code = vbl_cli_fail(r);
+    }
     for (int c = 0; c < channel_count && code == VBL_EXIT_OK; ++c) {
         planes[c] = malloc(sizeof(float) * (n ? n : 1));
         if (!planes[c]) {
             fprintf(stderr, "vbl merge: out of memory\n");
             code = VBL_EXIT_FAILURE;
-        } else if (acc[c].sum) {
-            vbl_merge_finish(&acc[c], total, n, planes[c]);
-        }
-    }
-    if (code == VBL_EXIT_OK) {
-        vbl_merge_view transport[VBL_MERGE_TRANSPORT_COUNT][3];
-        memset(transport, 0, sizeof transport);
-        static const char* const rgb[3] = {"R", "G", "B"};
-        for (int t = 0; t < VBL_MERGE_TRANSPORT_COUNT; ++t)
-            for (int k = 0; k < 3; ++k) {
-                char name[128];
-                snprintf(name, sizeof name, "%s.%s", vbl_merge_transport_order[t], rgb[k]);
-                int c = vbl_exr_image_find_channel(in[0].image, name);
-                if (c >= 0) transport[t][k].data = planes[c], transport[t][k].stride = 1;
-            }
-        for (int k = 0; k < 3; ++k) {
-            int c = vbl_exr_image_find_channel(in[0].image, rgb[k]);
-            if (c < 0) continue;
-            vbl_merge_view one[VBL_MERGE_TRANSPORT_COUNT][3];
-            memset(one, 0, sizeof one);
-            for (int t = 0; t < VBL_MERGE_TRANSPORT_COUNT; ++t) one[t][0] = transport[t][k];
-            float* tmp = malloc(sizeof(float) * 3 * (n ? n : 1));
-            if (!tmp) {
-                fprintf(stderr, "vbl merge: out of memory\n");
-                code = VBL_EXIT_FAILURE;
-                break;
-            }
-            vbl_merge_resum_beauty(one, n, tmp, 3);
-            for (size_t i = 0; i < n; ++i) planes[c][i] = tmp[3 * i];
-            free(tmp);
+        } else if (!vbl_cli_film_channel(merged, vbl_exr_image_channel_name(in[0].image, c), planes[c], n)) {
+            fprintf(stderr, "vbl merge: internal error: no merged channel '%s'\n",
+                    vbl_exr_image_channel_name(in[0].image, c));
+            code = VBL_EXIT_FAILURE;
         }
     }
     if (code == VBL_EXIT_OK) {
@@ -469,12 +399,9 @@ int vbl_cmd_merge(int argc, char** argv)
             fprintf(stderr, "vbl merge: wrote %s (%d passes from %d files, passes %d-%d%s)\n", out_path, total, count,
                     first_pass, last, gaps ? ", with gaps" : "");
     }
-    for (int c = 0; c < VBL_MERGE_MAX_CHANNELS; ++c) {
-        free(planes[c]);
-        free(acc[c].sum);
-        free(acc[c].weight);
-        free(acc[c].plain);
-    }
+    for (int c = 0; c < VBL_MERGE_MAX_CHANNELS; ++c) free(planes[c]);
+    vbl_film_release(merged);
+    vbl_film_merger_destroy(merger);
     for (int i = 0; i < count; ++i)
         if (in[i].image) vbl_exr_image_release(in[i].image);
     free(sorted);

@@ -1,74 +1,12 @@
-/* Pass-weighted combination of partial renders (merge.h). */
+/* Identity checks of partial renders (merge.h). */
 #include "merge.h"
 
 #include <stdio.h>
 #include <string.h>
 
-const char* const vbl_merge_transport_order[VBL_MERGE_TRANSPORT_COUNT] = {
-    "emission",          "surface_direct",      "volume_direct",     "surface_from_surface",
-    "surface_from_volume", "volume_from_surface", "volume_from_volume"};
-
 const char* const vbl_merge_identity_keys[VBL_MERGE_IDENTITY_COUNT] = {
     "vbl:scene_hash", "vbl:method", "vbl:seed",  "vbl:spp",        "vbl:light_paths",
     "vbl:options_hash", "vbl:frame", "vbl:media", "oiio:ColorSpace"};
-
-vbl_merge_kind vbl_merge_kind_of(const char* channel)
-{
-    if (!strcmp(channel, "R") || !strcmp(channel, "G") || !strcmp(channel, "B")) return VBL_MERGE_BEAUTY;
-    if (!strcmp(channel, "Z")) return VBL_MERGE_DEPTH;
-    if (!strncmp(channel, "samples.", 8)) return VBL_MERGE_SUM;
-    if (!strncmp(channel, "variance.", 9)) return VBL_MERGE_VARIANCE;
-    return VBL_MERGE_MEAN;
-}
-
-void vbl_merge_channel(vbl_merge_kind kind, int count, const int* passes, const vbl_merge_view* in,
-                       const vbl_merge_view* alpha, size_t n, float* out, size_t out_stride)
-{
-    double total = 0.0;
-    for (int k = 0; k < count; ++k) total += passes[k];
-    for (size_t i = 0; i < n; ++i) {
-        double sum = 0.0, weight_sum = 0.0;
-        for (int k = 0; k < count; ++k) {
-            double x = in[k].data[i * in[k].stride];
-            double w = total > 0.0 ? passes[k] / total : 0.0;
-            switch (kind) {
-            case VBL_MERGE_SUM: sum += x; break;
-            case VBL_MERGE_VARIANCE: sum += w * w * x; break;
-            case VBL_MERGE_DEPTH: {
-                /* Z = 0: no collision in that input's samples, it carries no depth */
-                double a = alpha && alpha[k].data ? alpha[k].data[i * alpha[k].stride] : 1.0;
-                double wa = x > 0.0 ? passes[k] * (a > 0.0 ? a : 0.0) : 0.0;
-                sum += wa * x;
-                weight_sum += wa;
-                break;
-            }
-            default: sum += w * x; break;
-            }
-        }
-        if (kind == VBL_MERGE_DEPTH) {
-            if (weight_sum > 0.0) {
-                sum /= weight_sum;
-            } else { /* no input saw a collision: pass weights (all values are 0 then) */
-                sum = 0.0;
-                for (int k = 0; k < count; ++k)
-                    sum += (total > 0.0 ? passes[k] / total : 0.0) * in[k].data[i * in[k].stride];
-            }
-        }
-        out[i * out_stride] = (float)sum;
-    }
-}
-
-void vbl_merge_resum_beauty(const vbl_merge_view transport[VBL_MERGE_TRANSPORT_COUNT][3], size_t n, float* beauty,
-                            size_t stride)
-{
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) {
-            float sum = 0.0f;
-            for (int c = 0; c < VBL_MERGE_TRANSPORT_COUNT; ++c)
-                if (transport[c][k].data) sum += transport[c][k].data[i * transport[c][k].stride];
-            beauty[i * stride + (size_t)k] = sum;
-        }
-}
 
 void vbl_merge_identity_from_image(const vbl_exr_image* image, vbl_merge_identity* out)
 {

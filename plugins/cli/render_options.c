@@ -18,10 +18,11 @@ static void vbl_render_usage(FILE* out)
             "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
             "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
             "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
-            "Render options (the scene's \"render\" block; 'vbl options' lists them, docs: options table):\n");
+            "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
+            "Render options (the scene's \"render\" keys; 'vbl options --markdown' is the docs table):\n");
     vbl_options_doc_help(out);
     fprintf(out,
-            "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
+            "\n"
             "Output file:\n"
             "  --aov LIST                 extra layers, comma-separated: z, samples, variance, all\n"
             "  --half                     store beauty, transport and variance layers as HALF (default FLOAT;\n"

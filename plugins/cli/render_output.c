@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "exr_film.h"
 #include "merge.h"
 #include "render_cli.h"
 
@@ -113,10 +114,16 @@ static vbl_result vbl_render_hash_scene(const char* path, char out[40])
     return VBL_SUCCESS;
 }
 
-/* Layer names accepted by --half-layers. */
-static const char* const vbl_render_colour_layers[] = {"beauty", "emission", "surface_direct", "volume_direct",
-                                                       "surface_from_surface", "surface_from_volume",
-                                                       "volume_from_surface", "volume_from_volume", "variance", NULL};
+/* Layer names accepted by --half-layers: beauty, the transport classes (vbl_transport_class_name), variance. */
+static int vbl_render_is_colour_layer(const char* p, size_t n)
+{
+    if ((n == 6 && !strncmp(p, "beauty", 6)) || (n == 8 && !strncmp(p, "variance", 8))) return 1;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+        const char* name = vbl_transport_class_name((vbl_transport_class)c);
+        if (strlen(name) == n && !strncmp(p, name, n)) return 1;
+    }
+    return 0;
+}
 
 static int vbl_render_list_has(const char* list, const char* name)
 {
@@ -134,9 +141,7 @@ static vbl_result vbl_render_check_half_layers(const char* list)
 {
     for (const char* p = list; p && *p;) {
         size_t n = strcspn(p, ",");
-        int known = 0;
-        for (int i = 0; vbl_render_colour_layers[i]; ++i)
-            known |= strlen(vbl_render_colour_layers[i]) == n && !strncmp(p, vbl_render_colour_layers[i], n);
+        int known = vbl_render_is_colour_layer(p, n);
         if (!known)
             return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
                                     "--half-layers: '%.*s' is not a colour layer (beauty, emission, volume_direct, "
@@ -387,70 +392,66 @@ static void vbl_render_channel_name(const vbl_render_layers* L, int k, int c, ch
     else snprintf(out, size, "%s.%s", L->names[k], L->channels[k] == 1 ? "Y" : rgba[c]);
 }
 
-/* --resume: every channel of L becomes the pass-weighted combination of the checkpoint (o->base,
- * planar) and this film (film_passes passes), by the rules of merge.h; the beauty RGB is then the
- * float sum of the merged transport layers again. */
-static vbl_result vbl_render_layers_merge_base(const vbl_render_output* o, vbl_render_layers* L, size_t n,
-                                               int film_passes)
+/* --resume: L becomes the library's merge (vbl_film_merge) of the checkpoint (o->base, its
+ * o->base_passes passes) and this film (film_passes passes), layer by layer as written. */
+static vbl_result vbl_render_layers_merge_base(const vbl_render_output* o, vbl_render_layers* L, int width,
+                                               int height, int film_passes)
 {
-    const vbl_exr_image* base = o->base;
-    int passes[2] = {o->base_passes, film_passes};
-    float* merged[VBL_RENDER_MAX_LAYERS] = {NULL};
-    vbl_merge_view alpha[2] = {{NULL, 1}, {NULL, 1}};
-    int beauty = -1;
-    for (int k = 0; k < L->count; ++k)
-        if (L->kinds[k] == VBL_KIND_BEAUTY && L->channels[k] == 4) beauty = k;
-    int base_a = vbl_exr_image_find_channel(base, "A");
-    if (beauty >= 0 && base_a >= 0) {
-        alpha[0].data = vbl_exr_image_channel_pixels(base, base_a);
-        alpha[1].data = L->pixels[beauty] + 3;
-        alpha[1].stride = 4;
+    const size_t n = (size_t)width * (size_t)height;
+    vbl_film* whole = NULL; /* every channel of the checkpoint */
+    vbl_result r = vbl_cli_film_from_exr(o->base, o->args->output, o->base_passes, &whole);
+    if (r) return r;
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.size = sizeof stats;
+    vbl_film_get_stats(whole, &stats);
+    stats.first_pass = o->base_first_pass;
+    vbl_film *base = NULL, *part = NULL, *merged = NULL;
+    r = vbl_film_create(width, height, &stats, &base);
+    stats.passes = film_passes;
+    stats.first_pass = o->base_first_pass + o->base_passes;
+    if (!r) r = vbl_film_create(width, height, &stats, &part);
+    float* buffer = malloc(sizeof(float) * 4 * (n ? n : 1));
+    float* plane = malloc(sizeof(float) * (n ? n : 1));
+    if (!r && (!buffer || !plane)) r = vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory merging the checkpoint");
+    for (int k = 0; !r && k < L->count; ++k) {
+        char full[4][256];
+        const char* names[4];
+        for (int c = 0; c < L->channels[k]; ++c) {
+            vbl_render_channel_name(L, k, c, full[c], sizeof full[c]);
+            const char* dot = strrchr(full[c], '.');
+            names[c] = dot ? dot + 1 : full[c];
+            if (!vbl_cli_film_channel(whole, full[c], plane, n)) {
+                r = vbl_report_error(VBL_ERROR_SCENE,
+                                     "%s: the checkpoint has no channel '%s' (resume with the same --aov flags)",
+                                     o->args->output, full[c]);
+                break;
+            }
+            for (size_t i = 0; i < n; ++i) buffer[(size_t)L->channels[k] * i + (size_t)c] = plane[i];
+        }
+        if (!r) r = vbl_film_add_layer(base, L->names[k], L->channels[k], names, buffer);
+        if (!r) r = vbl_film_add_layer(part, L->names[k], L->channels[k], names, L->pixels[k]);
     }
-    vbl_result r = VBL_SUCCESS;
-    for (int k = 0; k < L->count && !r; ++k) {
-        merged[k] = malloc(sizeof(float) * n * (size_t)L->channels[k]);
-        if (!merged[k]) {
+    const vbl_film* films[2] = {base, part};
+    if (!r) r = vbl_film_merge(films, 2, &merged);
+    for (int k = 0; !r && k < L->count; ++k) {
+        size_t values = n * (size_t)L->channels[k];
+        float* copy = malloc(sizeof(float) * (values ? values : 1));
+        if (!copy) {
             r = vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory merging the checkpoint");
             break;
         }
-        for (int c = 0; c < L->channels[k]; ++c) {
-            char name[256];
-            vbl_render_channel_name(L, k, c, name, sizeof name);
-            vbl_merge_kind kind = vbl_merge_kind_of(name);
-            if (kind == VBL_MERGE_BEAUTY) continue; /* re-summed below */
-            int index = vbl_exr_image_find_channel(base, name);
-            if (index < 0) {
-                r = vbl_report_error(VBL_ERROR_SCENE,
-                                     "%s: the checkpoint has no channel '%s' (resume with the same --aov flags)",
-                                     o->args->output, name);
-                break;
-            }
-            vbl_merge_view in[2] = {{vbl_exr_image_channel_pixels(base, index), 1},
-                                    {L->pixels[k] + c, (size_t)L->channels[k]}};
-            vbl_merge_channel(kind, 2, passes, in, alpha, n, merged[k] + c, (size_t)L->channels[k]);
-        }
-    }
-    if (!r && beauty >= 0) {
-        vbl_merge_view transport[VBL_MERGE_TRANSPORT_COUNT][3];
-        memset(transport, 0, sizeof transport);
-        for (int k = 0; k < L->count; ++k)
-            for (int t = 0; t < VBL_MERGE_TRANSPORT_COUNT; ++t)
-                if (L->kinds[k] == VBL_KIND_TRANSPORT && !strcmp(L->names[k], vbl_merge_transport_order[t]))
-                    for (int c = 0; c < 3; ++c) {
-                        transport[t][c].data = merged[k] + c;
-                        transport[t][c].stride = (size_t)L->channels[k];
-                    }
-        vbl_merge_resum_beauty(transport, n, merged[beauty], 4);
-    }
-    for (int k = 0; k < L->count; ++k) {
-        if (r) {
-            free(merged[k]);
-            continue;
-        }
+        memcpy(copy, vbl_film_layer(merged, L->names[k], NULL), sizeof(float) * values);
         free(L->owned[k]);
-        L->owned[k] = merged[k];
-        L->pixels[k] = merged[k];
+        L->owned[k] = copy;
+        L->pixels[k] = copy;
     }
+    free(buffer);
+    free(plane);
+    vbl_film_release(merged);
+    vbl_film_release(part);
+    vbl_film_release(base);
+    vbl_film_release(whole);
     return r;
 }
 
@@ -575,10 +576,9 @@ vbl_result vbl_render_output_write_exr(vbl_render_output* o, const vbl_film* fil
     memset(&stats, 0, sizeof stats);
     stats.size = sizeof stats;
     vbl_film_get_stats(film, &stats);
-    const size_t n = (size_t)vbl_film_width(film) * (size_t)vbl_film_height(film);
     int passes = stats.passes, first_pass = stats.first_pass;
     if (o->base) {
-        r = vbl_render_layers_merge_base(o, &L, n, stats.passes);
+        r = vbl_render_layers_merge_base(o, &L, vbl_film_width(film), vbl_film_height(film), stats.passes);
         if (r) {
             vbl_render_layers_free(&L);
             return r;

@@ -21,6 +21,7 @@
 #include "exr_internal.h"
 #include "output_test_util.h"
 #include "vbl_exr.h"
+#include "vbl/vbl.h"
 
 /* A deterministic test image: value of channel c at pixel (x, y) of layer l. */
 static float pattern(int l, int c, int x, int y)
@@ -70,11 +71,14 @@ static void roundtrip(vbl_exr_compression comp, int tiled, int tile_size, int w,
     static const char* const z_name[] = {"Z"};
     vbl_exr_layer layers[] = {
         {"", 4, NULL, beauty, 0},
-        {VBL_EXR_LAYER_EMISSION, 3, NULL, emission, 1},
-        {VBL_EXR_LAYER_SURFACE_DIRECT, 3, NULL, NULL, 1}, /* not produced: skipped */
-        {VBL_EXR_LAYER_VOLUME_DIRECT, 3, NULL, vdirect, 1},
+        {NULL, 3, NULL, emission, 1},
+        {NULL, 3, NULL, NULL, 1}, /* not produced: skipped */
+        {NULL, 3, NULL, vdirect, 1},
         {"", 1, z_name, depth, 0},
     };
+    layers[1].name = vbl_transport_class_name(VBL_CLASS_EMISSION);
+    layers[2].name = vbl_transport_class_name(VBL_CLASS_SURFACE_DIRECT);
+    layers[3].name = vbl_transport_class_name(VBL_CLASS_VOLUME_DIRECT);
     const float chroma[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
     vbl_exr_attribute attrs[] = {
         {"software", "vbl 0.1.0", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},

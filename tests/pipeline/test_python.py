@@ -217,6 +217,38 @@ class TestRender(unittest.TestCase):
         with self.assertRaises(vbl.VblError):
             vbl.render(scene, not_an_option=1)
 
+    def test_merge_equals_single_render(self):
+        # 1 + 3 passes merged = one render of 4, to float rounding (vbl_film_merge)
+        scene = vbl.Scene(self.scene_path)
+        single = vbl.render(scene, passes=4, seed=5, threads=2)
+        parts = [vbl.render(scene, first_pass=1, passes=3, seed=5, threads=2),
+                 vbl.render(scene, first_pass=0, passes=1, seed=5, threads=2)]
+        merged = vbl.merge(parts)
+        self.assertEqual(merged.stats["passes"], 4)
+        self.assertEqual(merged.stats["first_pass"], 0)
+        self.assertEqual(merged.layers, single.layers)
+        for name in single.layers:
+            if name in ("variance", "Z"):
+                continue
+            a, b = merged.layer(name), single.layer(name)
+            if name == "samples":
+                numpy.testing.assert_array_equal(a, b)
+            else:
+                numpy.testing.assert_allclose(a, b, rtol=4e-7, atol=0)
+        transport = [n for n in vbl.TRANSPORT_LAYERS if n in merged.layers]
+        self.assertGreaterEqual(len(transport), 2)
+        total = numpy.zeros_like(merged.layer(transport[0]))
+        for name in transport:
+            total = total + merged.layer(name)
+        numpy.testing.assert_array_equal(total, merged.layer("")[..., :3])  # exactly, in float
+        with self.assertRaises(vbl.VblError) as raised:
+            vbl.merge([parts[0], parts[0]])
+        self.assertIn("overlaps", raised.exception.message)
+        # a 1-pass checkpoint resumed to 4 passes
+        resumed = vbl.resume(scene, parts[1], passes=4, seed=5, threads=2)
+        self.assertEqual(resumed.stats["passes"], 4)
+        numpy.testing.assert_allclose(resumed.layer(""), single.layer(""), rtol=4e-7, atol=0)
+
     def test_vdb_overrides(self):
         scene = vbl.Scene(self.scene_path, vdb_overrides=[os.path.join(FIXTURES, "box.nvdb")])
         self.assertTrue(scene.medium_path(0).endswith("box.nvdb"))

@@ -7,5 +7,6 @@
 #include "vbl/vbl_core.h"
 #include "vbl/vbl_volume.h"
 #include "vbl/vbl_render.h"
+#include "vbl/vbl_film.h"
 
 #endif /* VBL_H */

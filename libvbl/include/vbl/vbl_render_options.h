@@ -9,6 +9,7 @@
 #ifndef VBL_RENDER_OPTIONS_H
 #define VBL_RENDER_OPTIONS_H
 
+#include <math.h> /* INFINITY in the table */
 #include <stddef.h>
 #include <stdint.h>
 

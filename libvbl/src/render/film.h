@@ -19,7 +19,8 @@ typedef struct vbl_pixel_accum {
 typedef struct vbl_film_layer_data {
     char name[32];
     int channels;
-    const char* channel_names[4];
+    const char* channel_names[4]; /* into channel_storage */
+    char channel_storage[4][16];
     float* pixels;
 } vbl_film_layer_data;
 

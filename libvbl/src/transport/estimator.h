@@ -20,22 +20,11 @@
 #include <math.h>
 
 #include "core/rng.h"
+#include "vbl/vbl_film.h"
 #include "scene/scene.h"
 #include "volume/transmittance.h"
 
-/* Transport classes = film layers (they sum to beauty, in this order). A class is defined by
- * the last scattering event before the camera-visible one (docs/readme/output.md): the
- * `surface_*` classes end on a surface seen by the camera, `volume_*` on a medium vertex. */
-typedef enum vbl_transport_class {
-    VBL_CLASS_EMISSION = 0,             /* lights/environment seen directly (attenuated) */
-    VBL_CLASS_SURFACE_DIRECT = 1,       /* camera-visible surface lit directly */
-    VBL_CLASS_VOLUME_DIRECT = 2,        /* scattered exactly once in the media */
-    VBL_CLASS_SURFACE_FROM_SURFACE = 3, /* camera-visible surface lit by a surface bounce */
-    VBL_CLASS_SURFACE_FROM_VOLUME = 4,  /* camera-visible surface lit by medium scattering */
-    VBL_CLASS_VOLUME_FROM_SURFACE = 5,  /* medium vertex lit by a surface bounce */
-    VBL_CLASS_VOLUME_FROM_VOLUME = 6,   /* scattered two or more times, last two in the media */
-    VBL_CLASS_COUNT = 7
-} vbl_transport_class;
+/* Transport classes = film layers: vbl_transport_class (vbl/vbl_film.h, public). */
 
 /* Class of light that scattered `scatter_events` times before reaching the camera. */
 static inline vbl_transport_class vbl_class_for_scatter_events(int scatter_events)

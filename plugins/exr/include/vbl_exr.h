@@ -30,14 +30,8 @@ typedef struct vbl_exr_layer {
  * of layers equal the beauty exactly only in FLOAT storage; HALF rounds each channel separately
  * (relative error <= 2^-11 per value). */
 
-/* Layer names of the light-transport classes (issue 5); the beauty is "". */
-#define VBL_EXR_LAYER_EMISSION "emission"
-#define VBL_EXR_LAYER_SURFACE_DIRECT "surface_direct"
-#define VBL_EXR_LAYER_VOLUME_DIRECT "volume_direct"
-#define VBL_EXR_LAYER_SURFACE_FROM_SURFACE "surface_from_surface"
-#define VBL_EXR_LAYER_SURFACE_FROM_VOLUME "surface_from_volume"
-#define VBL_EXR_LAYER_VOLUME_FROM_SURFACE "volume_from_surface"
-#define VBL_EXR_LAYER_VOLUME_FROM_VOLUME "volume_from_volume"
+/* Layer names: the beauty is ""; the light-transport classes are vbl_transport_class_name()'s
+ * (vbl/vbl_film.h: "emission", "volume_direct", ...), the one list of them. */
 
 typedef enum vbl_exr_attribute_type {
     VBL_EXR_ATTRIBUTE_STRING = 0,      /* `value` */

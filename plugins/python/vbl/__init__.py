@@ -16,7 +16,8 @@ import ctypes
 import ctypes.util
 import os
 
-__all__ = ["VblError", "version", "library_path", "Scene", "Volume", "Film", "render",
+__all__ = ["VblError", "version", "library_path", "Scene", "Volume", "Film", "render", "merge", "resume",
+           "TRANSPORT_LAYERS",
            "TransmittanceResult", "RENDER_OPTION_FIELDS", "RENDER_OPTIONS"]
 
 # ---- library ---------------------------------------------------------------------------------
@@ -245,6 +246,9 @@ _film_layer_channel_name = _proto("vbl_film_layer_channel_name", ctypes.c_char_p
 _film_layer = _proto("vbl_film_layer", ctypes.POINTER(ctypes.c_float), _P, ctypes.c_char_p,
                      ctypes.POINTER(ctypes.c_int))
 _film_get_stats = _proto("vbl_film_get_stats", _R, _P, ctypes.POINTER(_FilmStats))
+_film_merge = _proto("vbl_film_merge", _R, ctypes.POINTER(_P), ctypes.c_int, ctypes.POINTER(_P))
+_transport_class_name = _proto("vbl_transport_class_name", ctypes.c_char_p, ctypes.c_int)
+_render_resume = _proto("vbl_render_resume", _R, _P, _P, _P, ctypes.POINTER(_P))
 
 # ---- errors ----------------------------------------------------------------------------------
 
@@ -613,3 +617,36 @@ def render(scene, callback=None, **overrides):
         return film
     _check(code)
     return film
+
+
+# The transport-class layer names in film order (they sum to the beauty in this order).
+TRANSPORT_LAYERS = tuple(_decode(_transport_class_name(c)) for c in range(7))
+
+
+def merge(films):
+    """Merges films of disjoint pass ranges of one render (render(..., first_pass=A, passes=B))
+    into the film one render of all their passes gives, to float rounding (vbl_film_merge: weighted
+    means by passes, summed samples, variance of the mean, Z weighted by passes x alpha, the beauty
+    re-summed from the transport layers)."""
+    films = list(films)
+    if not films:
+        raise _argument_error("merge(): no films")
+    handles = (_P * len(films))(*[film._handle for film in films])
+    handle = _P()
+    _check(_film_merge(handles, len(films), ctypes.byref(handle)))
+    return Film(handle)
+
+
+def resume(scene, base, **overrides):
+    """Continues the film `base` (a render of `scene` with fewer passes: a checkpoint) to the
+    passes of the scene's `render` block with `overrides` (vbl_render_resume): renders the passes it
+    lacks with the single render's seeds and merges, = one render of all passes to float rounding."""
+    options = scene._render_options()
+    for name, value in overrides.items():
+        if name not in RENDER_OPTION_FIELDS:
+            raise _argument_error("resume(): unknown option %r" % (name,))
+        if value is not None:
+            options.set(name, value)
+    handle = _P()
+    _check(_render_resume(scene._handle, options.handle, base._handle, ctypes.byref(handle)))
+    return Film(handle)
