@@ -33,9 +33,9 @@ typedef enum vbl_transport_class {
     VBL_CLASS_COUNT = 7
 } vbl_transport_class;
 
-/* The layer name of a class ("emission", "surface_direct", "volume_direct", ...); NULL out of range.
- * parse: VBL_ERROR_INVALID_ARGUMENT for names that are not a class. */
+/* The layer name of a class ("emission", "surface_direct", "volume_direct", ...); NULL out of range. */
 VBL_API const char* vbl_transport_class_name(vbl_transport_class transport_class);
+/* The class of a layer name; VBL_ERROR_INVALID_ARGUMENT for names that are not a class. */
 VBL_API vbl_result vbl_transport_class_parse(const char* name, vbl_transport_class* out);
 
 /* ---- films from pixels ----------------------------------------------------------------- */
@@ -70,9 +70,13 @@ VBL_API vbl_result vbl_film_merge(const vbl_film* const* films, int count, vbl_f
 /* The same, one film at a time (memory: the running double sums plus the film being added):
  * create, add each film, finish (the merger is then empty), destroy. */
 typedef struct vbl_film_merger vbl_film_merger;
+/* An empty merger. */
 VBL_API vbl_result vbl_film_merger_create(vbl_film_merger** out_merger);
+/* Adds one film's pixels to the running sums (checked against the films added before). */
 VBL_API vbl_result vbl_film_merger_add(vbl_film_merger* merger, const vbl_film* film);
+/* The merged film of everything added so far, as vbl_film_merge; the merger is then empty. */
 VBL_API vbl_result vbl_film_merger_finish(vbl_film_merger* merger, vbl_film** out_film);
+/* Frees the merger (NULL is fine). */
 VBL_API void vbl_film_merger_destroy(vbl_film_merger* merger);
 
 /* ---- checkpoint / resume --------------------------------------------------------------- */
