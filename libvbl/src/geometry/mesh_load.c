@@ -12,6 +12,7 @@
 #include <assimp/scene.h>
 
 #include "core/error.h"
+#include "geometry/mesh_ply_check.h"
 
 static vbl_result vbl_mesh_open(const char* path, int polygons, const struct aiScene** out)
 {
@@ -19,6 +20,10 @@ static vbl_result vbl_mesh_open(const char* path, int polygons, const struct aiS
     FILE* f = fopen(path, "rb");
     if (!f) return vbl_error(VBL_ERROR_FILE_NOT_FOUND, "%s: cannot open mesh file (%s)", path, strerror(errno));
     fclose(f);
+    if (vbl_mesh_is_ply(path)) {
+        vbl_result checked = vbl_mesh_check_ply(path);
+        if (checked) return checked;
+    }
     /* PreTransformVertices bakes the node hierarchy into scene space and merges meshes per
      * material; SortByPType separates points/lines (degenerate faces turned into lines/points by
      * FindDegenerates) so they can be dropped. */
