@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -352,9 +353,20 @@ static void test_ply_headers(void** state)
     assert_mesh(write_all("neg_bin.ply", bin, n), VBL_ERROR_CORRUPT_FILE, "face 1 uses vertex");
 }
 
+/* With VBL_FUZZ_KEEP=DIR the inputs are written there and kept: the fuzz targets' corpus replay
+ * (tests/fuzz/CMakeLists.txt) runs every one of them through the same entry points. */
+static int g_keep;
+
 static int setup(void** state)
 {
     (void)state;
+    const char* keep = getenv("VBL_FUZZ_KEEP");
+    if (keep && keep[0]) {
+        snprintf(g_dir, sizeof g_dir, "%s", keep);
+        g_keep = 1;
+        mkdir(g_dir, 0755);
+        return 0;
+    }
     const char* tmp = getenv("TMPDIR");
     snprintf(g_dir, sizeof g_dir, "%s/vbl_fuzz_XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
     return mkdtemp(g_dir) ? 0 : -1;
@@ -363,6 +375,7 @@ static int setup(void** state)
 static int teardown(void** state)
 {
     (void)state;
+    if (g_keep) return 0;
     char cmd[4200];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
     return system(cmd) == 0 ? 0 : -1;
