@@ -348,6 +348,12 @@ static void test_ply_headers(void** state)
     n += sizeof f1;
     assert_mesh(write_all("ok_bin.ply", bin, n), VBL_SUCCESS, NULL);
     assert_mesh(write_all("trunc_bin.ply", bin, n - 3), VBL_ERROR_CORRUPT_FILE, "truncated");
+    /* 2e9 vertices claimed by a 24-byte body: refused at the end of the file, not after 2e9 seeks */
+    const char* many = "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n";
+    unsigned char many_bin[256] = {0};
+    memcpy(many_bin, many, strlen(many));
+    assert_mesh(write_all("many_bin.ply", many_bin, strlen(many) + 24), VBL_ERROR_CORRUPT_FILE, "element 'vertex' 2");
     const int32_t bad = -5;
     memcpy(bin + n - 4, &bad, 4);
     assert_mesh(write_all("neg_bin.ply", bin, n), VBL_ERROR_CORRUPT_FILE, "face 1 uses vertex");

@@ -67,13 +67,20 @@ static int vbl_ply_read_uint(FILE* f, int size, int big_endian, int is_float, ui
 static vbl_result vbl_ply_check_binary(FILE* f, const char* path, const vbl_ply_element* elements, int element_count,
                                        int big_endian, uint64_t vertices)
 {
+    const long body = ftell(f);
+    if (body < 0 || fseek(f, 0, SEEK_END) != 0) return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: cannot seek", path);
+    const long long file_size = ftell(f);
+    if (fseek(f, body, SEEK_SET) != 0) return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: cannot seek", path);
     for (int e = 0; e < element_count; ++e) {
         const vbl_ply_element* el = &elements[e];
         for (uint64_t n = 0; n < el->count; ++n)
             for (int p = 0; p < el->property_count; ++p) {
                 const vbl_ply_property* pr = &el->properties[p];
                 if (!pr->list) {
-                    if (fseek(f, pr->size, SEEK_CUR) != 0 || feof(f))
+                    /* fseek succeeds past the end: compare with the file's size (a header claiming
+                     * 2^31 vertices of a short file would otherwise loop 2^31 times) */
+                    long at = ftell(f);
+                    if (at < 0 || (long long)at + pr->size > file_size || fseek(f, pr->size, SEEK_CUR) != 0)
                         return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: PLY body truncated in element '%s' %llu", path,
                                          el->name, (unsigned long long)n);
                     continue;
@@ -98,10 +105,6 @@ static vbl_result vbl_ply_check_binary(FILE* f, const char* path, const vbl_ply_
                 }
             }
     }
-    /* fseek past the end succeeds: confirm the last byte exists. */
-    long here = ftell(f);
-    if (fseek(f, 0, SEEK_END) != 0 || ftell(f) < here)
-        return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: PLY body truncated (the elements need %ld bytes)", path, here);
     return VBL_SUCCESS;
 }
 
