@@ -4,6 +4,7 @@
  * merge"). Per-channel rules: merge.h; the inputs are read one at a time into double running sums,
  * so memory holds the first input, the current one and the sums, whatever the input count. */
 #define _POSIX_C_SOURCE 200809L
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +61,42 @@ static int vbl_merge_attr_int(const vbl_exr_image* image, const char* name, int*
     return 1;
 }
 
+/* The pass count a file claims against what else it records (a part claiming 200 passes re-weighted
+ * the merge): its vbl:pass_range A-B (first_pass = A, passes = B-A+1, or fewer if interrupted) and
+ * its samples channel (passes x spp camera samples in every pixel). Returns an exit code. */
+static int vbl_merge_check_counts(const vbl_merge_input* in)
+{
+    const char* range = vbl_exr_image_attribute(in->image, "vbl:pass_range", NULL);
+    long long a = 0, b = 0;
+    char tail = 0;
+    if (range && sscanf(range, "%lld-%lld%c", &a, &b, &tail) == 2) {
+        const long long span = b - a + 1;
+        if (a != in->first_pass || span < 1 || in->passes > span || (in->complete && in->passes != span)) {
+            fprintf(stderr,
+                    "vbl merge: %s: vbl:passes = %d and vbl:first_pass = %d do not fit its vbl:pass_range %lld-%lld "
+                    "(%s)\n",
+                    in->path, in->passes, in->first_pass, a, b, in->complete ? "complete" : "partial");
+            return VBL_EXIT_BAD_INPUT;
+        }
+    }
+    int spp = 0;
+    const int c = vbl_exr_image_find_channel(in->image, "samples.Y");
+    if (c >= 0 && vbl_merge_attr_int(in->image, "vbl:spp", &spp) && spp > 0) {
+        const float* samples = vbl_exr_image_channel_pixels(in->image, c);
+        const size_t n = (size_t)vbl_exr_image_width(in->image) * (size_t)vbl_exr_image_height(in->image);
+        const double want = (double)in->passes * (double)spp;
+        for (size_t i = 0; i < n; ++i)
+            if ((double)samples[i] != want) {
+                fprintf(stderr,
+                        "vbl merge: %s: vbl:passes = %d with vbl:spp = %d means %.0f samples per pixel, but samples.Y "
+                        "is %.9g at pixel %zu\n",
+                        in->path, in->passes, spp, want, (double)samples[i], i);
+                return VBL_EXIT_BAD_INPUT;
+            }
+    }
+    return VBL_EXIT_OK;
+}
+
 /* Reads and checks one input against the first. Returns an exit code (0: fine). */
 static int vbl_merge_open(vbl_merge_input* in, const vbl_merge_input* first, const vbl_merge_identity* first_id)
 {
@@ -82,6 +119,8 @@ static int vbl_merge_open(vbl_merge_input* in, const vbl_merge_input* first, con
     in->complete = status && !strcmp(status, "complete");
     const char* seconds = vbl_exr_image_attribute(in->image, "vbl:render_seconds", NULL);
     in->seconds = seconds ? atof(seconds) : 0.0;
+    int counts = vbl_merge_check_counts(in);
+    if (counts != VBL_EXIT_OK) return counts;
     if (!first) return VBL_EXIT_OK;
     vbl_merge_identity id;
     vbl_merge_identity_from_image(in->image, &id);
@@ -125,7 +164,7 @@ typedef struct vbl_merge_out_layer {
 
 static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int count, float** planes,
                            const vbl_exr_image* first, int total_passes, int first_pass, int last_pass,
-                           int requested, const char* status, double seconds)
+                           int requested, const char* status, double seconds, const char* color_space)
 {
     const int w = vbl_exr_image_width(first), h = vbl_exr_image_height(first);
     const size_t n = (size_t)w * (size_t)h;
@@ -234,7 +273,7 @@ static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int 
         if (compression >= 0) wo.compression = (vbl_exr_compression)compression;
         wo.tiled = vbl_exr_image_tiled(first);
         wo.tile_size = vbl_exr_image_tile_size(first);
-        wo.color_space = vbl_exr_image_attribute(first, "oiio:ColorSpace", NULL);
+        wo.color_space = color_space;
         float chroma[8];
         if (vbl_exr_image_chromaticities(first, chroma)) wo.chromaticities = chroma;
         vbl_result r = vbl_exr_write(out_path, w, h, exr_layers, layer_count, &wo);
@@ -303,6 +342,7 @@ int vbl_cmd_merge(int argc, char** argv)
     /* every input (the first included), read one at a time into the library's merger
      * (vbl_film_merger: double running sums; vbl/vbl_film.h has the rules) */
     vbl_film_merger* merger = NULL;
+    char color_space[1024] = "";
     if (code == VBL_EXIT_OK && vbl_film_merger_create(&merger)) code = vbl_cli_fail(VBL_ERROR_OUT_OF_MEMORY);
     for (int i = 0; i < count && code == VBL_EXIT_OK; ++i) {
         if (i > 0) code = vbl_merge_open(&in[i], &in[0], &first_id);
@@ -316,6 +356,9 @@ int vbl_cmd_merge(int argc, char** argv)
                 code = VBL_EXIT_BAD_INPUT;
             }
         if (code != VBL_EXIT_OK) break;
+        /* A part rewritten by a tool that drops oiio:ColorSpace (oiiotool) takes the others' space. */
+        const char* space = vbl_exr_image_attribute(in[i].image, "oiio:ColorSpace", NULL);
+        if (!color_space[0] && space) snprintf(color_space, sizeof color_space, "%s", space);
         vbl_film* film = NULL;
         vbl_result r = vbl_cli_film_from_exr(in[i].image, in[i].path, in[i].passes, &film);
         if (!r) r = vbl_film_merger_add(merger, film);
@@ -331,7 +374,9 @@ int vbl_cmd_merge(int argc, char** argv)
     }
 
     /* pass ranges: sorted, disjoint, and (without --allow-gaps) covering 0..N-1 */
-    int total = 0, requested = 0, gaps = 0, complete = 1, first_pass = 0, last = 0;
+    /* 64-bit sums: two parts of 2147483647 passes overflowed an int ("-2 passes from 2 files") */
+    int64_t total = 0, requested = 0, next = 0;
+    int gaps = 0, complete = 1, first_pass = 0, last = 0;
     double seconds = 0.0;
     vbl_merge_input* sorted = NULL;
     if (code == VBL_EXIT_OK) {
@@ -341,36 +386,44 @@ int vbl_cmd_merge(int argc, char** argv)
     if (code == VBL_EXIT_OK) {
         memcpy(sorted, in, sizeof *sorted * (size_t)count);
         qsort(sorted, (size_t)count, sizeof *sorted, vbl_merge_by_first_pass);
-        int next = 0;
         for (int i = 0; i < count; ++i) {
             const vbl_merge_input* s = &sorted[i];
-            long end = (long)s->first_pass + s->passes - 1;
+            const int64_t end = (int64_t)s->first_pass + s->passes - 1;
             if (i > 0 && s->first_pass < next) {
                 fprintf(stderr,
-                        "vbl merge: %s (passes %d-%ld) overlaps %s (passes %d-%d): pass ranges must be disjoint\n",
-                        s->path, s->first_pass, end, sorted[i - 1].path, sorted[i - 1].first_pass, next - 1);
+                        "vbl merge: %s (passes %d-%lld) overlaps %s (passes %d-%lld): pass ranges must be disjoint\n",
+                        s->path, s->first_pass, (long long)end, sorted[i - 1].path, sorted[i - 1].first_pass,
+                        (long long)(next - 1));
                 code = VBL_EXIT_BAD_INPUT;
                 break;
             }
             if (s->first_pass > next) {
                 if (!allow_gaps) {
                     fprintf(stderr,
-                            "vbl merge: passes %d-%d are missing (before %s, which starts at pass %d); a single render "
-                            "would have them (render them with --pass-range %d-%d, or merge with --allow-gaps)\n",
-                            next, s->first_pass - 1, s->path, s->first_pass, next, s->first_pass - 1);
+                            "vbl merge: passes %lld-%d are missing (before %s, which starts at pass %d); a single render "
+                            "would have them (render them with --pass-range %lld-%d, or merge with --allow-gaps)\n",
+                            (long long)next, s->first_pass - 1, s->path, s->first_pass, (long long)next,
+                            s->first_pass - 1);
                     code = VBL_EXIT_BAD_INPUT;
                     break;
                 }
                 gaps = 1;
             }
-            next = (int)(end + 1);
+            next = end + 1;
             total += s->passes;
             requested += s->requested > s->passes ? s->requested : s->passes;
             complete &= s->complete;
             seconds += s->seconds;
         }
         first_pass = sorted[0].first_pass;
-        last = next - 1;
+        if (code == VBL_EXIT_OK && (next - 1 > INT32_MAX || requested > INT32_MAX)) {
+            fprintf(stderr,
+                    "vbl merge: the parts end at pass %lld and request %lld passes, beyond the 2147483647 an EXR int "
+                    "attribute holds (a part's vbl:passes or vbl:first_pass is wrong)\n",
+                    (long long)(next - 1), (long long)requested);
+            code = VBL_EXIT_BAD_INPUT;
+        }
+        last = (int)(next - 1);
     }
 
     /* the merged film (beauty R,G,B re-summed from the transport layers) as the first input's channels */
@@ -393,11 +446,11 @@ int vbl_cmd_merge(int argc, char** argv)
     }
     if (code == VBL_EXIT_OK) {
         const char* status = gaps || !complete ? "partial" : "complete";
-        code = vbl_merge_write(out_path, in, count, planes, in[0].image, total, first_pass, last, requested, status,
-                               seconds);
+        code = vbl_merge_write(out_path, in, count, planes, in[0].image, (int)total, first_pass, last, (int)requested,
+                               status, seconds, color_space[0] ? color_space : NULL);
         if (code == VBL_EXIT_OK && !quiet)
-            fprintf(stderr, "vbl merge: wrote %s (%d passes from %d files, passes %d-%d%s)\n", out_path, total, count,
-                    first_pass, last, gaps ? ", with gaps" : "");
+            fprintf(stderr, "vbl merge: wrote %s (%lld passes from %d files, passes %d-%d%s)\n", out_path,
+                    (long long)total, count, first_pass, last, gaps ? ", with gaps" : "");
     }
     for (int c = 0; c < VBL_MERGE_MAX_CHANNELS; ++c) free(planes[c]);
     vbl_film_release(merged);

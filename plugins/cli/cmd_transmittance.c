@@ -37,8 +37,24 @@ static void vbl_tr_usage(FILE* out)
             "  -h, --help                this help\n");
 }
 
+/* libpng's default handlers print to stderr ("libpng error: Write Error" on a full disk): keep its
+ * message for ours instead (one line naming the file). */
+static void vbl_tr_png_error(png_structp png, png_const_charp message)
+{
+    char* saved = png_get_error_ptr(png);
+    if (saved) snprintf(saved, 256, "%s", message ? message : "libpng error");
+    png_longjmp(png, 1);
+}
+
+static void vbl_tr_png_warning(png_structp png, png_const_charp message)
+{
+    (void)png;
+    (void)message;
+}
+
 static int vbl_tr_write_png(const char* path, const unsigned char* pixels, int w, int h)
 {
+    char png_message[256] = "";
     size_t len = strlen(path);
     char* tmp = malloc(len + 16);
     if (!tmp) return VBL_EXIT_IO;
@@ -50,7 +66,8 @@ static int vbl_tr_write_png(const char* path, const unsigned char* pixels, int w
         return VBL_EXIT_IO;
     }
     FILE* f = fdopen(fd, "wb");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, png_message, vbl_tr_png_error, vbl_tr_png_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     int ok = f && png && info;
     if (ok && setjmp(png_jmpbuf(png))) ok = 0;
@@ -68,7 +85,8 @@ static int vbl_tr_write_png(const char* path, const unsigned char* pixels, int w
     } else close(fd);
     if (ok && rename(tmp, path) != 0) ok = 0;
     if (!ok) {
-        fprintf(stderr, "vbl: cannot write %s: %s\n", path, strerror(errno ? errno : EIO));
+        fprintf(stderr, "vbl: cannot write %s: %s\n", path,
+                errno ? strerror(errno) : (png_message[0] ? png_message : strerror(EIO)));
         remove(tmp);
     }
     free(tmp);

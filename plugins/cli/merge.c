@@ -40,6 +40,13 @@ void vbl_merge_identity_from_attributes(const vbl_exr_attribute* attrs, int coun
         }
 }
 
+int vbl_merge_identity_droppable(int key)
+{
+    /* oiiotool rewrites EXRs without oiio:ColorSpace (it keeps the colour space in its own state);
+     * a value that differs is still refused. */
+    return key >= 0 && key < VBL_MERGE_IDENTITY_COUNT && !strcmp(vbl_merge_identity_keys[key], "oiio:ColorSpace");
+}
+
 int vbl_merge_identity_compare(const vbl_merge_identity* a, const char* path_a, const vbl_merge_identity* b,
                                const char* path_b, char* msg, size_t size)
 {
@@ -50,6 +57,9 @@ int vbl_merge_identity_compare(const vbl_merge_identity* a, const char* path_a, 
     }
     for (int k = 0; k < VBL_MERGE_IDENTITY_COUNT; ++k) {
         if (a->has[k] == b->has[k] && (!a->has[k] || !strcmp(a->values[k], b->values[k]))) continue;
+        if (vbl_merge_identity_droppable(k) && (!a->has[k] || !b->has[k])) continue;
+        /* OpenImageIO drops empty string attributes (vbl:media = "" of a scene without media) */
+        if (!strcmp(a->has[k] ? a->values[k] : "", b->has[k] ? b->values[k] : "")) continue;
         snprintf(msg, size, "%s: %s = %s%s%s but %s has %s%s%s", path_b, vbl_merge_identity_keys[k],
                  b->has[k] ? "\"" : "", b->has[k] ? b->values[k] : "(none)", b->has[k] ? "\"" : "", path_a,
                  a->has[k] ? "\"" : "", a->has[k] ? a->values[k] : "(none)", a->has[k] ? "\"" : "");

@@ -22,7 +22,10 @@ typedef struct vbl_merge_identity {
 void vbl_merge_identity_from_image(const vbl_exr_image* image, vbl_merge_identity* out);
 void vbl_merge_identity_from_attributes(const vbl_exr_attribute* attrs, int count, int width, int height,
                                         vbl_merge_identity* out);
-/* 0 if equal; else 1 and "<path_b>: <key> = X but <path_a> has Y" in msg. */
+/* 1 for the keys other tools drop when they rewrite a file (oiio:ColorSpace): a file that lacks
+ * one is not refused for it, a different value is. */
+int vbl_merge_identity_droppable(int key);
+/* 0 if equal (a droppable key may be absent on one side, an absent key equals ""); else 1 and "<path_b>: <key> = X but <path_a> has Y" in msg. */
 int vbl_merge_identity_compare(const vbl_merge_identity* a, const char* path_a, const vbl_merge_identity* b,
                                const char* path_b, char* msg, size_t size);
 

@@ -10,16 +10,24 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "render_cli.h"
 
 static volatile sig_atomic_t vbl_render_signalled = 0;
+/* The library's cancel flag (vbl_render_options.cancel): the pass in progress stops at its next
+ * pixel and is dropped, so SIGINT/SIGTERM end a render within a pixel's time, not a pass's. */
+static volatile int vbl_render_cancel_flag = 0;
 static struct sigaction vbl_render_old_int, vbl_render_old_term;
 
 static void vbl_render_on_signal(int sig)
 {
     (void)sig;
+    /* A second signal aborts at once. Outputs are written to a temporary name and renamed, so the
+     * output stays the last complete file (a temporary ".<name>.tmp-XXXXXX" may remain). */
+    if (vbl_render_signalled) _exit(VBL_EXIT_INTERRUPTED);
     vbl_render_signalled = 1;
+    vbl_render_cancel_flag = 1;
 }
 
 void vbl_render_signals(int install)
@@ -30,6 +38,7 @@ void vbl_render_signals(int install)
         sa.sa_handler = vbl_render_on_signal;
         sigemptyset(&sa.sa_mask);
         vbl_render_signalled = 0;
+        vbl_render_cancel_flag = 0;
         sigaction(SIGINT, &sa, &vbl_render_old_int);
         sigaction(SIGTERM, &sa, &vbl_render_old_term);
     } else {
@@ -47,7 +56,7 @@ double vbl_render_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-enum { VBL_STOP_NONE = 0, VBL_STOP_SIGNAL = 1, VBL_STOP_TIME_LIMIT = 2, VBL_STOP_WRITE_FAILED = 3 };
+enum { VBL_STOP_NONE = 0, VBL_STOP_SIGNAL = 1, VBL_STOP_TIME_LIMIT = 2 };
 
 typedef struct vbl_render_loop {
     const vbl_render_args* args;
@@ -60,8 +69,6 @@ typedef struct vbl_render_loop {
     double last_write; /* last checkpoint (or start) */
     int last_written;  /* passes in the last checkpoint */
     int stop;
-    vbl_result write_result;
-    char write_message[2048];
 } vbl_render_loop;
 
 static vbl_result vbl_render_write_checkpoint(vbl_render_loop* s, const vbl_render_progress* p)
@@ -99,10 +106,15 @@ static int vbl_render_loop_callback(const vbl_render_progress* p, void* user)
         (s->args->checkpoint_seconds > 0.0 && now - s->last_write >= s->args->checkpoint_seconds)) {
         vbl_result r = vbl_render_write_checkpoint(s, p);
         if (r) {
-            s->write_result = r;
-            snprintf(s->write_message, sizeof s->write_message, "%s", vbl_last_error_message());
-            s->stop = VBL_STOP_WRITE_FAILED;
-            return 1;
+            /* A failed checkpoint (disk full for a moment, a read-only mount) is a warning: the
+             * render goes on, the next checkpoint or the final write tries again. */
+            char note[2200];
+            snprintf(note, sizeof note, "warning: checkpoint not written (%s); rendering continues",
+                     vbl_last_error_message());
+            vbl_clear_error();
+            vbl_progress_note(s->progress, note);
+            s->last_write = vbl_render_now();
+            s->last_written = p->pass;
         }
     }
     return 0;
@@ -125,13 +137,21 @@ vbl_result vbl_render_run(const vbl_scene* scene, const vbl_render_options* opti
     s.start = s.last_write = vbl_render_now();
 
     vbl_render_options opts = *options;
-    opts.time_limit = 0.0; /* counted in the callback, which also writes the checkpoints */
+    /* The library stops a pass that runs past the limit (after the first) and drops it; the
+     * callback stops between passes and writes the checkpoints. */
+    opts.time_limit = options->time_limit;
     opts.callback = vbl_render_loop_callback;
     opts.callback_user_data = &s;
+    opts.cancel = &vbl_render_cancel_flag;
     vbl_film* film = NULL;
     vbl_result r = vbl_render(scene, &opts, &film);
     if (r == VBL_SUCCESS) {
-        *status = "complete"; /* a signal after the last pass: the caller sees vbl_render_interrupted() */
+        vbl_film_stats stats;
+        memset(&stats, 0, sizeof stats);
+        stats.size = sizeof stats;
+        vbl_film_get_stats(film, &stats);
+        /* a signal after the last pass: the caller sees vbl_render_interrupted() */
+        *status = stats.time_limited ? "time_limit" : "complete";
         *out_film = film;
         return VBL_SUCCESS;
     }
@@ -145,9 +165,6 @@ vbl_result vbl_render_run(const vbl_scene* scene, const vbl_render_options* opti
         *status = "time_limit";
         *out_film = film;
         return VBL_SUCCESS;
-    case VBL_STOP_WRITE_FAILED:
-        vbl_film_release(film);
-        return vbl_report_error(s.write_result, "%s", s.write_message);
     default:
         *status = "interrupted";
         *out_film = film;

@@ -31,5 +31,6 @@ int main(void)
     SIZE(vbl_film_stats);
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);
+    OFF(vbl_film_stats, discarded_pass);
     return 0;
 }

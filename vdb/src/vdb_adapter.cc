@@ -25,6 +25,27 @@ void set_string(char* dst, std::size_t capacity, const std::string& src)
     dst[n] = '\0';
 }
 
+std::string printable(const std::string& text, std::size_t keep)
+{
+    static const char hex[] = "0123456789abcdef";
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (i == keep) {
+            out += "...";
+            break;
+        }
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out += char(c);
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    return out;
+}
+
 void* copy_aligned(const void* data, std::size_t size)
 {
     void* buffer = vbl_aligned_alloc(32, size);
@@ -49,7 +70,7 @@ FileKind sniff_file(const std::string& path)
     if (!std::memcmp(magic, vdb, 8)) return FileKind::OpenVdb;
     if (!std::memcmp(magic, "NanoVDB0", 8)) return FileKind::NanoVdb;
     if (!std::memcmp(magic, "NanoVDB", 7))
-        throw Failure(VBL_ERROR_UNSUPPORTED, std::string("NanoVDB file container '") + std::string(reinterpret_cast<char*>(magic), 8) +
+        throw Failure(VBL_ERROR_UNSUPPORTED, std::string("NanoVDB file container '") + printable(std::string(reinterpret_cast<char*>(magic), 8)) +
                                                  "' is newer than this build's NanoVDB " + std::to_string(NANOVDB_MAJOR_VERSION_NUMBER) + ".x reader");
     throw Failure(VBL_ERROR_CORRUPT_FILE, "not a VDB or NanoVDB file (bad magic number)");
 }
@@ -71,7 +92,7 @@ std::string describe_grids(const std::vector<GridEntry>& grids)
     ss << "grids in file:";
     if (grids.empty()) ss << " none";
     for (std::size_t i = 0; i < grids.size(); ++i)
-        ss << (i ? ", " : " ") << "[" << i << "] '" << grids[i].desc.name << "' " << grids[i].desc.type;
+        ss << (i ? ", " : " ") << "[" << i << "] '" << printable(grids[i].desc.name) << "' " << grids[i].desc.type;
     return ss.str();
 }
 
@@ -128,7 +149,7 @@ vbl_result guarded(const char* path, char* message, std::size_t message_size, F&
         return fail(message, message_size, path, VBL_ERROR_OUT_OF_MEMORY, "out of memory while reading");
     } catch (const std::exception& e) {
         // OpenVDB/NanoVDB/blosc/zlib errors while decoding: the file is damaged or truncated.
-        return fail(message, message_size, path, VBL_ERROR_CORRUPT_FILE, std::string("cannot read (corrupt or truncated file): ") + e.what());
+        return fail(message, message_size, path, VBL_ERROR_CORRUPT_FILE, std::string("cannot read (corrupt or truncated file): ") + printable(e.what(), 240));
     } catch (...) {
         return fail(message, message_size, path, VBL_ERROR_CORRUPT_FILE, "cannot read (corrupt or truncated file)");
     }
@@ -151,7 +172,7 @@ extern "C" vbl_result vbl_vdb_read_float_grid(const char* path, const char* grid
         std::size_t index = select_grid(grids, grid_name, grid_index);
         const GridEntry& entry = grids[index];
         if (!entry.desc.is_float)
-            throw Failure(VBL_ERROR_GRID_TYPE, "grid [" + std::to_string(index) + "] '" + entry.desc.name + "' is " +
+            throw Failure(VBL_ERROR_GRID_TYPE, "grid [" + std::to_string(index) + "] '" + printable(entry.desc.name) + "' is " +
                                                    entry.desc.type + ", not a float grid");
         if (kind == FileKind::OpenVdb)
             openvdb_read_float(path, entry, out_buffer, out_size);

@@ -4,6 +4,7 @@
 #define VBL_VDB_INTERNAL_H
 
 #include <cstdint>
+#include <istream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,6 +38,14 @@ std::vector<GridEntry> openvdb_list(const std::string& path, bool describe);
 // Reads entry `entry` (a float grid) and converts it to a NanoVDB buffer (vbl_aligned_alloc).
 void openvdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size);
 
+// Size pre-checks before OpenVDB reads (vdb_openvdb_sizes.cc): each reads ahead from the stream's
+// position, throws Failure(VBL_ERROR_CORRUPT_FILE) naming the field when a stated length exceeds
+// the bytes left in the file, and restores the position.
+void check_meta_map_sizes(std::istream& is, std::streamoff file_size, const std::string& what);
+void check_descriptor_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, int32_t index);
+// The grid's metadata and transform type name, at the position after its compression flags.
+void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, const std::string& grid);
+
 // NanoVDB (.nvdb): every grid in file order (multi-grid buffers expanded); reads the buffers.
 std::vector<GridEntry> nanovdb_list(const std::string& path);
 void nanovdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size);
@@ -47,6 +56,10 @@ void validate_nanovdb_float_grid(const void* data, std::uint64_t size);
 
 // Copies `size` bytes into a new 32-byte aligned buffer (throws Failure on out of memory).
 void* copy_aligned(const void* data, std::size_t size);
+
+// `text` with every byte outside printable ASCII written as \xNN and at most `keep` bytes kept
+// (names read from a file go into messages this way, never raw).
+std::string printable(const std::string& text, std::size_t keep = 80);
 
 void set_string(char* dst, std::size_t capacity, const std::string& src);
 

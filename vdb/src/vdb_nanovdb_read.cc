@@ -1,6 +1,7 @@
 // NanoVDB (.nvdb) reader: walks the file's segments (nanovdb::io), expands buffers that hold several
 // grids (GridData::mGridCount / mGridSize, as written by NanoVDB >= 32.5), validates the layout of the
 // chosen float grid and hands a private 32-byte aligned copy of it to the core.
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -36,6 +37,75 @@ void check_version(const nanovdb::Version& v, const char* what)
                                                  ".x (the major version changes the memory layout)");
 }
 
+// Compressed grids larger than this many times their bytes in the file are refused (zlib's deflate
+// cannot exceed 1032:1; blosc on NanoVDB nodes stays far below), unless under the floor below.
+constexpr uint64_t kMaxExpansion = 1032;
+constexpr uint64_t kExpansionFloor = uint64_t(64) << 20; // 64 MiB: tiny tile-only grids compress further
+
+std::string entry_name(std::size_t entry) { return "NanoVDB grid entry " + std::to_string(entry); }
+
+// Checks the segment at `pos` before nanovdb::io reads it: nanovdb::io::GridMetaData::read allocates
+// `nameSize` bytes from the file and runs strlen on them (a 156-byte file with an unterminated name
+// overread the heap), and Internal::read allocates the grid size and each compressed chunk size it
+// reads. Every size is checked against the bytes the file has, the name for its terminating NUL,
+// the grid size against its codec, the chunk sizes against the grid's bytes in the file.
+void check_segment_sizes(std::istream& is, std::streamoff pos, std::streamoff file_size, std::size_t first_entry)
+{
+    nanovdb::io::Header header;
+    is.seekg(pos);
+    is.read(reinterpret_cast<char*>(&header), sizeof header);
+    if (!is) throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated NanoVDB segment header");
+    std::vector<nanovdb::io::MetaData> metas(header.gridCount);
+    for (uint16_t g = 0; g < header.gridCount; ++g) {
+        const std::string what = entry_name(first_entry + g);
+        nanovdb::io::MetaData& m = metas[g];
+        std::streamoff at = is.tellg();
+        if (at < 0 || file_size - at < std::streamoff(sizeof m)) throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated NanoVDB metadata of " + what);
+        is.read(reinterpret_cast<char*>(&m), sizeof m);
+        at += std::streamoff(sizeof m);
+        if (m.nameSize == 0 || m.nameSize > uint64_t(file_size - at))
+            throw Failure(VBL_ERROR_CORRUPT_FILE, what + ": name size " + std::to_string(m.nameSize) + " exceeds the " +
+                                                      std::to_string(file_size - at) + " bytes left in the file");
+        std::string name(m.nameSize, '\0');
+        is.read(&name[0], std::streamsize(m.nameSize));
+        if (!is || name.back() != '\0') throw Failure(VBL_ERROR_CORRUPT_FILE, what + ": grid name is not NUL-terminated");
+        if (m.gridSize < sizeof(nanovdb::GridData) || m.fileSize == 0 || m.fileSize > uint64_t(file_size))
+            throw Failure(VBL_ERROR_CORRUPT_FILE, what + ": bad grid size " + std::to_string(m.gridSize) + " / file size " +
+                                                      std::to_string(m.fileSize) + " in the metadata");
+        const bool raw = header.codec != nanovdb::io::Codec::ZIP && header.codec != nanovdb::io::Codec::BLOSC;
+        const uint64_t most = raw ? m.fileSize : std::max(kExpansionFloor, m.fileSize * kMaxExpansion);
+        if (m.gridSize > most)
+            throw Failure(VBL_ERROR_CORRUPT_FILE, what + ": grid size " + std::to_string(m.gridSize) + " bytes cannot come from its " +
+                                                      std::to_string(m.fileSize) + " bytes in the file (codec " +
+                                                      nanovdb::io::toStr(header.codec) + ")");
+    }
+    // The grids' data follow the metadata in order; compressed ones are (int64 size, bytes) chunks:
+    // one for ZIP, one per started GB for BLOSC (nanovdb::io::Internal::write).
+    std::streamoff data = is.tellg();
+    for (uint16_t g = 0; g < header.gridCount; ++g) {
+        const nanovdb::io::MetaData& m = metas[g];
+        if (data < 0 || m.fileSize > uint64_t(file_size - data)) break; // the caller reports the truncation
+        if (header.codec == nanovdb::io::Codec::ZIP || header.codec == nanovdb::io::Codec::BLOSC) {
+            const uint64_t chunks = header.codec == nanovdb::io::Codec::ZIP ? 1 : (m.gridSize + (uint64_t(1) << 30) - 1) >> 30;
+            uint64_t used = 0;
+            is.seekg(data);
+            for (uint64_t c = 0; c < chunks; ++c) {
+                uint64_t size = 0;
+                if (m.fileSize - used < sizeof size) throw Failure(VBL_ERROR_CORRUPT_FILE, entry_name(first_entry + g) + ": truncated compressed chunk");
+                is.read(reinterpret_cast<char*>(&size), sizeof size);
+                used += sizeof size;
+                if (!is || size > m.fileSize - used)
+                    throw Failure(VBL_ERROR_CORRUPT_FILE, entry_name(first_entry + g) + ": compressed chunk of " + std::to_string(size) +
+                                                              " bytes exceeds the grid's " + std::to_string(m.fileSize) + " bytes in the file");
+                used += size;
+                is.seekg(std::streamoff(size), std::ios::cur);
+            }
+        }
+        data += std::streamoff(m.fileSize);
+    }
+    is.clear();
+}
+
 // The segment entries of the file in order; checks headers and that the file holds every grid's bytes.
 std::vector<nanovdb::io::GridMetaData> read_segments(const std::string& path)
 {
@@ -51,13 +121,13 @@ std::vector<nanovdb::io::GridMetaData> read_segments(const std::string& path)
         is.read(reinterpret_cast<char*>(&header), sizeof header);
         if (header.magic != NANOVDB_MAGIC_NUMBER) throw Failure(VBL_ERROR_CORRUPT_FILE, "bad NanoVDB segment magic number");
         check_version(header.version, "the file");
+        check_segment_sizes(is, pos, file_size, entries.size());
         is.seekg(pos);
         nanovdb::io::Segment segment;
         if (!segment.read(is)) break;
         std::streamoff data = 0;
         for (const auto& meta : segment.meta) {
             data += std::streamoff(meta.fileSize);
-            if (meta.gridSize == 0 || meta.gridSize > (uint64_t(1) << 40)) throw Failure(VBL_ERROR_CORRUPT_FILE, "bad grid size in NanoVDB metadata");
             entries.push_back(meta);
         }
         pos = is.tellg();
@@ -191,7 +261,9 @@ void validate_nanovdb_float_grid(const void* data, uint64_t size)
     for (int l = 0; l < 3; ++l) {
         level[l] = {tree_off + tree->mNodeOffset[l], tree->mNodeCount[l], strides[l]};
         if (level[l].count == 0) continue;
-        if (tree->mNodeOffset[l] > gsize || level[l].begin % NANOVDB_DATA_ALIGNMENT ||
+        // The bound is on the array's start in the buffer (tree offset included): with only the
+        // node offset checked, gsize - begin could wrap and any count pass.
+        if (tree->mNodeOffset[l] > gsize || level[l].begin > gsize || level[l].begin % NANOVDB_DATA_ALIGNMENT ||
             level[l].count > (gsize - level[l].begin) / level[l].stride)
             throw bad("node array " + std::to_string(l) + " outside the buffer");
     }

@@ -127,6 +127,7 @@ typedef struct vbl_film_stats {
     int cancelled;                /* 1: stopped by the callback */
     int time_limited;             /* 1: stopped by time_limit */
     int first_pass;               /* absolute index of the first pass in this film */
+    int discarded_pass;           /* 1: a pass was stopped part way (cancel / time limit) and dropped */
 } vbl_film_stats;
 
 VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out);
@@ -134,8 +135,9 @@ VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
 /* ---- rendering ------------------------------------------------------------------------- */
 
 /* Renders `scene` progressively. Same scene, options.seed and completed passes give a
- * bit-identical film at any thread count. If the callback stops the render after at least one
- * pass, *out_film receives the partial film and VBL_ERROR_INTERRUPTED is returned. Methods
+ * bit-identical film at any thread count. If the callback (after a pass) or options.cancel
+ * (within a pass) stops the render after at least one complete pass, *out_film receives the
+ * film of the complete passes and VBL_ERROR_INTERRUPTED is returned (no film if none). Methods
  * not built yet return VBL_ERROR_UNSUPPORTED. */
 VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options,
                               vbl_film** out_film);

@@ -101,7 +101,11 @@ typedef enum vbl_render_option_effect {
 
 /* X(name, c type, type, scene key under "render" (NULL: none), CLI flag (NULL: none), default, min,
  *   max, flags, choices (enum) or NULL, effect, help)
- * F(name, c type, default): a struct field that is not an option (callbacks).
+ * F(name, c type, default): a struct field that is not an option (callbacks; `cancel`: may be NULL;
+ *   once *cancel is non-zero the pass in progress stops at its next pixel and is dropped, so the
+ *   film holds only complete passes; vbl_render then returns VBL_ERROR_INTERRUPTED with the film
+ *   of the passes done, NULL if none. While cancel or a time limit is set the driver keeps a copy of
+ *   the accumulators of the last complete pass, 256 bytes per pixel).
  * The order is the struct's (ABI): append new options at the end. */
 #define VBL_RENDER_OPTION_LIST(X, F)                                                                         \
     X(method, vbl_render_method, ENUM, "method", "--method", VBL_RENDER_PT, 0, 4, 0,                         \
@@ -113,7 +117,7 @@ typedef enum vbl_render_option_effect {
     X(seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,            \
       "random seed (scene files: at most 2^53)")                                                             \
     X(time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL, PASSES,          \
-      "seconds: stop after the pass that exceeds it (0: none)")                                              \
+      "seconds: a pass running past it stops at its next pixel and is dropped; the first always completes (0: none)") \
     X(threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)")     \
     X(max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, NULL,     \
       HASH, "scattering events per path (-1: unlimited)")                                                   \
@@ -176,7 +180,8 @@ typedef enum vbl_render_option_effect {
       "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")        \
     X(transmittance_majorant_scale, double, DOUBLE, "transmittance_majorant_scale",                          \
       "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,                                       \
-      "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)")
+      "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)") \
+    F(cancel, const volatile int*, NULL)
 
 /* ---- the struct, generated ------------------------------------------------------------- */
 

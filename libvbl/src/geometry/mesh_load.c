@@ -12,6 +12,7 @@
 #include <assimp/scene.h>
 
 #include "core/error.h"
+#include "geometry/mesh_ply_check.h"
 
 static vbl_result vbl_mesh_open(const char* path, int polygons, const struct aiScene** out)
 {
@@ -19,6 +20,10 @@ static vbl_result vbl_mesh_open(const char* path, int polygons, const struct aiS
     FILE* f = fopen(path, "rb");
     if (!f) return vbl_error(VBL_ERROR_FILE_NOT_FOUND, "%s: cannot open mesh file (%s)", path, strerror(errno));
     fclose(f);
+    if (vbl_mesh_is_ply(path)) {
+        vbl_result checked = vbl_mesh_check_ply(path);
+        if (checked) return checked;
+    }
     /* PreTransformVertices bakes the node hierarchy into scene space and merges meshes per
      * material; SortByPType separates points/lines (degenerate faces turned into lines/points by
      * FindDegenerates) so they can be dropped. */
@@ -40,9 +45,14 @@ static vbl_result vbl_mesh_open(const char* path, int polygons, const struct aiS
     const struct aiScene* scene = aiImportFileExWithProperties(path, flags, NULL, props);
     aiReleasePropertyStore(props);
     if (!scene) {
+        /* assimp's messages can quote the file's bytes: only printable ASCII goes into ours */
         const char* msg = aiGetErrorString();
-        return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: cannot read the mesh (assimp: %s)", path,
-                         msg && msg[0] ? msg : "unknown error");
+        char quoted[256];
+        size_t n = 0;
+        for (const char* c = msg && msg[0] ? msg : "unknown error"; *c && n + 1 < sizeof quoted; ++c)
+            quoted[n++] = (*c >= 0x20 && *c < 0x7f) ? *c : '?';
+        quoted[n] = '\0';
+        return vbl_error(VBL_ERROR_CORRUPT_FILE, "%s: cannot read the mesh (assimp: %s)", path, quoted);
     }
     if (scene->mNumMeshes == 0) {
         aiReleaseImport(scene);

@@ -104,6 +104,13 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     }
 }
 
+/* The cancel flag is set, or (once a pass is done) the time limit is reached. */
+static int vbl_render_stop_requested(const vbl_render_options* o, double start, int passes_done)
+{
+    if (o->cancel && *o->cancel) return 1;
+    return o->time_limit > 0.0 && passes_done > 0 && omp_get_wtime() - start >= o->time_limit;
+}
+
 /* What vbl_render_snapshot needs from inside the pass loop. */
 typedef struct vbl_render_driver {
     const vbl_scene* scene;
@@ -182,16 +189,34 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
-    int passes_done = 0, cancelled = 0, time_limited = 0;
+    int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
     vbl_render_driver driver = {scene, options, accum, 0, ctx.threads, start};
+    /* Stopping inside a pass (cancel flag, time limit after the first pass) restores the
+     * accumulators of the last complete pass from this copy: the film never holds part of a pass. */
+    vbl_pixel_accum* backup = NULL;
     for (int pass = 0; pass < options->passes; ++pass) {
         double pass_start = omp_get_wtime();
         ctx.pass = (uint32_t)(options->first_pass + pass); /* absolute pass: seeds and radii */
+        const int stoppable = options->cancel || (options->time_limit > 0.0 && passes_done > 0);
+        if (stoppable && vbl_render_stop_requested(options, start, passes_done)) {
+            if (options->cancel && *options->cancel) cancelled = 1;
+            else time_limited = 1;
+            break;
+        }
+        if (stoppable && passes_done > 0) {
+            if (!backup && !(backup = malloc(pixel_count * sizeof *backup))) {
+                free(accum);
+                return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the film's pass copy", scene->path);
+            }
+            memcpy(backup, accum, pixel_count * sizeof *backup);
+        }
         void* store = NULL;
         if (est->pass_begin && (r = est->pass_begin(&ctx, &store))) {
+            free(backup);
             free(accum);
             return r;
         }
+        volatile int stop_pass = 0;
 #pragma omp parallel num_threads(ctx.threads)
         {
             vbl_thread_state ts;
@@ -202,12 +227,24 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 int x0 = (tile % tiles_x) * VBL_TILE, y0 = (tile / tiles_x) * VBL_TILE;
                 int x1 = x0 + VBL_TILE < width ? x0 + VBL_TILE : width;
                 int y1 = y0 + VBL_TILE < height ? y0 + VBL_TILE : height;
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x)
+                for (int y = y0; y < y1 && !stop_pass; ++y)
+                    for (int x = x0; x < x1 && !stop_pass; ++x) {
+                        if (stoppable && vbl_render_stop_requested(options, start, passes_done)) {
+                            stop_pass = 1;
+                            break;
+                        }
                         vbl_render_pixel(&ctx, est, store, &ts, x, y, &accum[(size_t)y * width + x]);
+                    }
             }
         }
         if (est->pass_end) est->pass_end(&ctx, store);
+        if (stop_pass) { /* drop the part of the pass rendered so far */
+            if (passes_done > 0) memcpy(accum, backup, pixel_count * sizeof *backup);
+            discarded = 1;
+            if (options->cancel && *options->cancel) cancelled = 1;
+            else time_limited = 1;
+            break;
+        }
         passes_done = pass + 1;
         driver.passes_done = passes_done;
         double now = omp_get_wtime();
@@ -225,6 +262,12 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             break;
         }
     }
+    free(backup);
+    if (passes_done == 0) { /* stopped inside the first pass: nothing to return */
+        free(accum);
+        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: render cancelled during its first pass (no pass completed)",
+                         scene->path);
+    }
 
     vbl_film_layout layout;
     vbl_film_layout_for(scene, options, &layout);
@@ -232,6 +275,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_render_fill_stats(&driver, &stats);
     stats.cancelled = cancelled;
     stats.time_limited = time_limited;
+    stats.discarded_pass = discarded;
     r = vbl_film_build(accum, width, height, &layout, &stats, out_film);
     free(accum);
     if (r) return r;

@@ -6,6 +6,7 @@
  * bound (trilinear weights are convex), not an estimate from samples. */
 #include "volume/volume.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,12 +16,6 @@
 #define VBL_MAJORANT_DEFAULT_BLOCK 8
 /* Refuse grids whose bounding box would need more blocks than this (sparse giants). */
 #define VBL_MAJORANT_MAX_BLOCKS ((int64_t)1 << 28)
-
-static int vbl_floor_div(int a, int b)
-{
-    int q = a / b;
-    return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
-}
 
 vbl_result vbl_majorant_grid_build(vbl_majorant_grid* grid, const vbl_volume* volume, int block)
 {
@@ -33,23 +28,34 @@ vbl_result vbl_majorant_grid_build(vbl_majorant_grid* grid, const vbl_volume* vo
     pnanovdb_coord_t bmax = pnanovdb_root_get_bbox_max(volume->buf, volume->root);
     if (bmin.x > bmax.x || bmin.y > bmax.y || bmin.z > bmax.z) return VBL_SUCCESS; /* empty: no blocks */
 
-    /* Support of trilinear interpolation: index cells bmin-1 .. bmax. */
-    const int lo[3] = {bmin.x - 1, bmin.y - 1, bmin.z - 1};
-    const int hi[3] = {bmax.x, bmax.y, bmax.z};
+    /* Support of trilinear interpolation: index cells bmin-1 .. bmax. All extents and the block
+     * count are int64 and checked axis by axis: a bbox of 2^31 voxels per axis would overflow
+     * `hi - lo` in int and wrap the product of the block counts (to 0 for 2^31 x 2^31 x 2040). */
+    const int64_t lo[3] = {(int64_t)bmin.x - 1, (int64_t)bmin.y - 1, (int64_t)bmin.z - 1};
+    const int64_t hi[3] = {bmax.x, bmax.y, bmax.z};
+    int64_t dims[3];
     int64_t total = 1;
+    int too_many = 0;
     for (int a = 0; a < 3; ++a) {
         /* Blocks start exactly at the support (not at multiples of `block`): no empty margin
          * inside the first block, which matters in dense media (steps ~ majorant * length). */
-        grid->origin[a] = lo[a];
-        grid->dims[a] = vbl_floor_div(hi[a] - lo[a], block) + 1;
-        total *= grid->dims[a];
+        dims[a] = (hi[a] - lo[a]) / block + 1; /* hi >= lo here, so truncation is floor */
+        /* The block loop visits index cells up to lo + dims * block + 1: they must be int32. */
+        if (lo[a] - 1 < INT32_MIN || lo[a] + dims[a] * block + 1 > INT32_MAX) too_many = 1;
+        if (!too_many && total > VBL_MAJORANT_MAX_BLOCKS / dims[a]) too_many = 1;
+        if (!too_many) total *= dims[a];
     }
-    if (total > VBL_MAJORANT_MAX_BLOCKS)
+    if (too_many || total > VBL_MAJORANT_MAX_BLOCKS)
         return vbl_error(VBL_ERROR_UNSUPPORTED,
-                         "%s: index bounding box [%d,%d,%d]..[%d,%d,%d] needs %lld majorant blocks of %d^3 "
-                         "(limit %lld); use a larger majorant_block_size",
-                         volume->info.file_path, bmin.x, bmin.y, bmin.z, bmax.x, bmax.y, bmax.z, (long long)total,
-                         block, (long long)VBL_MAJORANT_MAX_BLOCKS);
+                         "%s: index bounding box [%d,%d,%d]..[%d,%d,%d] needs %lld x %lld x %lld majorant blocks of "
+                         "%d^3 (limit %lld in all, index coordinates within +-2^31); use a larger "
+                         "majorant_block_size or a grid without far-apart voxels",
+                         volume->info.file_path, bmin.x, bmin.y, bmin.z, bmax.x, bmax.y, bmax.z, (long long)dims[0],
+                         (long long)dims[1], (long long)dims[2], block, (long long)VBL_MAJORANT_MAX_BLOCKS);
+    for (int a = 0; a < 3; ++a) {
+        grid->origin[a] = (int)lo[a];
+        grid->dims[a] = (int)dims[a];
+    }
     grid->max_density = malloc((size_t)total * sizeof(float));
     grid->min_density = malloc((size_t)total * sizeof(float));
     if (!grid->max_density || !grid->min_density) {

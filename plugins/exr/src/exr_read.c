@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <OpenEXR/openexr.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,6 +45,41 @@ static void vbl_exr_read_error_handler(exr_const_context_t ctxt, exr_result_t co
     if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user) return;
     vbl_exr_read_state* state = user;
     if (!state->message[0]) snprintf(state->message, sizeof state->message, "%s (%s)", msg, exr_get_error_code_as_string(code));
+}
+
+/* Decoded planes larger than this many times the file's size are refused before allocating (zlib
+ * cannot exceed 1032:1, RLE 64:1; the other codecs store at least a bit per value per run), unless
+ * they fit in the floor below. A 2 KB file asked for 23 GB through its data window (issue 18). */
+#define VBL_EXR_MAX_EXPANSION 4096
+#define VBL_EXR_EXPANSION_FLOOR ((uint64_t)256 << 20) /* 256 MiB */
+
+/* `in` for a message: bytes outside printable ASCII as \xNN, at most `out_size` - 1 characters. */
+static const char* vbl_exr_printable(const char* in, char* out, size_t out_size)
+{
+    static const char hex[] = "0123456789abcdef";
+    size_t n = 0;
+    for (; in && *in && n + 5 < out_size; ++in) {
+        unsigned char c = (unsigned char)*in;
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out[n++] = (char)c;
+        } else {
+            out[n++] = '\\';
+            out[n++] = 'x';
+            out[n++] = hex[c >> 4];
+            out[n++] = hex[c & 15];
+        }
+    }
+    out[n] = '\0';
+    return out;
+}
+
+static long long vbl_exr_file_size(const char* path)
+{
+    FILE* f = fopen(path, "rb");
+    if (!f) return -1;
+    long long size = fseek(f, 0, SEEK_END) == 0 ? (long long)ftell(f) : -1;
+    fclose(f);
+    return size;
 }
 
 static char* vbl_exr_dup(const char* s, size_t n)
@@ -159,9 +195,9 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
 {
     if (out_image) *out_image = NULL;
     if (!path || !out_image) return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_exr_read: NULL argument");
-    FILE* probe = fopen(path, "rb");
-    if (!probe) return vbl_report_error(VBL_ERROR_FILE_NOT_FOUND, "%s: cannot open for reading", path);
-    fclose(probe);
+    const long long file_size = vbl_exr_file_size(path);
+    if (file_size < 0) return vbl_report_error(VBL_ERROR_FILE_NOT_FOUND, "%s: cannot open for reading", path);
+    char quoted[256];
 
     vbl_exr_read_state state = {{0}};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -172,7 +208,8 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
     if (rv != EXR_ERR_SUCCESS) {
         exr_finish(&ctxt);
         return vbl_report_error(VBL_ERROR_CORRUPT_FILE, "%s: not a readable OpenEXR file: %s", path,
-                                state.message[0] ? state.message : exr_get_default_error_message(rv));
+                                vbl_exr_printable(state.message[0] ? state.message : exr_get_default_error_message(rv),
+                                                  quoted, sizeof quoted));
     }
     vbl_result result = VBL_SUCCESS;
     vbl_exr_image* image = calloc(1, sizeof *image);
@@ -195,8 +232,31 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
         result = vbl_report_error(VBL_ERROR_UNSUPPORTED, "%s: deep EXR images are not supported", path);
         goto done;
     }
-    image->width = dw.max.x - dw.min.x + 1;
-    image->height = dw.max.y - dw.min.y + 1;
+    /* In 64 bits: max - min of two int32 overflows int for windows of 2^31 pixels. */
+    const int64_t width = (int64_t)dw.max.x - dw.min.x + 1, height = (int64_t)dw.max.y - dw.min.y + 1;
+    if (width <= 0 || height <= 0) {
+        result = vbl_report_error(VBL_ERROR_CORRUPT_FILE, "%s: empty data window", path);
+        goto done;
+    }
+    {
+        const uint64_t channels = (uint64_t)(chlist->num_channels > 0 ? chlist->num_channels : 1);
+        const uint64_t limit = (uint64_t)file_size * VBL_EXR_MAX_EXPANSION > VBL_EXR_EXPANSION_FLOOR
+                                   ? (uint64_t)file_size * VBL_EXR_MAX_EXPANSION
+                                   : VBL_EXR_EXPANSION_FLOOR;
+        /* width, height < 2^32 and channels < 2^31: the product in long double cannot wrap. */
+        const long double bytes = (long double)width * (long double)height * (long double)channels * 4.0L;
+        if (width > INT32_MAX || height > INT32_MAX || bytes > (long double)limit) {
+            result = vbl_report_error(VBL_ERROR_CORRUPT_FILE,
+                                      "%s: dataWindow %lld x %lld with %llu channels needs %.3g GB of pixels, more than "
+                                      "%d x the file's %lld bytes (at least %llu MiB allowed): corrupt header",
+                                      path, (long long)width, (long long)height, (unsigned long long)channels,
+                                      (double)(bytes / 1e9L), VBL_EXR_MAX_EXPANSION, file_size,
+                                      (unsigned long long)(VBL_EXR_EXPANSION_FLOOR >> 20));
+            goto done;
+        }
+    }
+    image->width = (int)width;
+    image->height = (int)height;
     image->windows_match = !memcmp(&dw, &disp, sizeof dw);
     image->tiled = storage == EXR_STORAGE_TILED;
     switch (comp) {
@@ -205,10 +265,6 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
     case EXR_COMPRESSION_PIZ: image->compression = VBL_EXR_COMPRESSION_PIZ; break;
     case EXR_COMPRESSION_DWAA: image->compression = VBL_EXR_COMPRESSION_DWAA; break;
     default: image->compression = (vbl_exr_compression)-1; break;
-    }
-    if (image->width <= 0 || image->height <= 0) {
-        result = vbl_report_error(VBL_ERROR_CORRUPT_FILE, "%s: empty data window", path);
-        goto done;
     }
     image->channels = calloc((size_t)(chlist->num_channels > 0 ? chlist->num_channels : 1), sizeof *image->channels);
     if (!image->channels) {
@@ -219,7 +275,8 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
         const exr_attr_chlist_entry_t* e = &chlist->entries[c];
         vbl_exr_image_channel* ch = &image->channels[c];
         if (e->x_sampling != 1 || e->y_sampling != 1) {
-            result = vbl_report_error(VBL_ERROR_UNSUPPORTED, "%s: channel '%s' is subsampled", path, e->name.str);
+            result = vbl_report_error(VBL_ERROR_UNSUPPORTED, "%s: channel '%s' is subsampled", path,
+                                      vbl_exr_printable(e->name.str, quoted, sizeof quoted));
             goto done;
         }
         ch->name = vbl_exr_dup(e->name.str, (size_t)e->name.length);
@@ -280,7 +337,8 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
     }
     if (rv != EXR_ERR_SUCCESS)
         result = vbl_report_error(VBL_ERROR_CORRUPT_FILE, "%s: cannot decode pixels: %s", path,
-                                  state.message[0] ? state.message : exr_get_default_error_message(rv));
+                                  vbl_exr_printable(state.message[0] ? state.message : exr_get_default_error_message(rv),
+                                                    quoted, sizeof quoted));
 done:
     exr_finish(&ctxt);
     if (result != VBL_SUCCESS) {

@@ -169,7 +169,8 @@ class _FilmStats(ctypes.Structure):
                 ("render_seconds", ctypes.c_double),
                 ("cancelled", ctypes.c_int),
                 ("time_limited", ctypes.c_int),
-                ("first_pass", ctypes.c_int)]
+                ("first_pass", ctypes.c_int),
+                ("discarded_pass", ctypes.c_int)]
 
 
 # Sizes of the mirrored structs (tests compare them with sizeof in C).

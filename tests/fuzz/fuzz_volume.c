@@ -1,0 +1,13 @@
+/* libFuzzer target: vbl_fuzz_volume (fuzz_entry.h). Without libFuzzer, replay_main.c drives it. */
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fuzz_entry.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+    vbl_fuzz_volume(data, size);
+    return 0;
+}
