@@ -11,7 +11,13 @@
  * lights add an equiangular distance sample on every segment, MIS-combined with the collision's
  * NEE (Kulla and Fajardo 2012; transport/pt_equiangular.h, option pt_equiangular). Lights do
  * not occlude; surfaces occlude everything. Contributions are classified by the camera-visible
- * vertex and the vertex before it (vbl_class_for_vertices). */
+ * vertex and the vertex before it (vbl_class_for_vertices).
+ * Emissive media (docs/readme/emission.md) add the emission term int_0^s T sigma_a Le dt of the
+ * RTE: at every tentative collision of the free flight (null or real) the walk adds
+ * beta sigma_a Le / mu (vbl_free_flight_sample_visit; the null-scattering emission estimator of
+ * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2);
+ * seen directly it goes to volume_emission, after scattering to the class of that vertex. A
+ * scene without emission takes the plain free flight (decided once per scene). */
 #include "transport/pt.h"
 
 #include <math.h>
@@ -74,6 +80,21 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
             w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, vertex, direction));
         vbl_add_scaled(L, beta, light->color, w);
     }
+}
+
+/* Visitor state of the emission estimator along one free flight. */
+typedef struct vbl_pt_emission {
+    const vbl_scene* scene;
+    vbl_emission_cursor* cursor;
+    vbl_vec3 beta;
+    vbl_vec3* L;
+} vbl_pt_emission;
+
+static void vbl_pt_emission_visit(void* user, vbl_vec3 p, double mu, const double* per_component)
+{
+    vbl_pt_emission* e = user;
+    vbl_vec3 em = vbl_media_emission(e->scene, e->cursor, p, per_component);
+    vbl_add_scaled(e->L, e->beta, em, 1.0 / mu);
 }
 
 /* Picks one light uniformly and samples it from x; 0 if the sample carries no light. */
@@ -183,7 +204,15 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         int on_surface = vbl_surfaces_intersect(scene->surfaces, origin, direction, 0.0, INFINITY, &hit);
         double t_surface = on_surface ? hit.t : INFINITY;
         double t = INFINITY, sigma_t = 0.0;
-        int collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
+        int collided;
+        if (scene->has_emission) {
+            vbl_pt_emission e = {scene, &ts->emission, beta,
+                                 &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
+            collided = vbl_ctx_free_flight_visit(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components,
+                                                 vbl_pt_emission_visit, &e);
+        } else {
+            collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
+        }
         double t_limit = collided ? t : t_surface;
         vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf, beta, out);
         if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
