@@ -38,6 +38,7 @@ typedef struct vbl_exr_layer {
 #define VBL_EXR_LAYER_SURFACE_FROM_VOLUME "surface_from_volume"
 #define VBL_EXR_LAYER_VOLUME_FROM_SURFACE "volume_from_surface"
 #define VBL_EXR_LAYER_VOLUME_FROM_VOLUME "volume_from_volume"
+#define VBL_EXR_LAYER_VOLUME_EMISSION "volume_emission"
 
 typedef enum vbl_exr_attribute_type {
     VBL_EXR_ATTRIBUTE_STRING = 0,      /* `value` */
