@@ -275,6 +275,72 @@ static void test_role_grids(void** state)
     assert_null(vbl_grid_role_for("flags"));
 }
 
+/* A real fire cache end to end: openusd_densityAndHeat.vdb's "heat" is found as the temperature
+ * role, the fire (the only light) lights a ground plane (surface_direct through the
+ * unidirectional estimator),
+ * layers sum to the beauty, nothing is NaN, and 1 and 2 threads give the same image. */
+static void test_fire_cache_end_to_end(void** state)
+{
+    (void)state;
+    const char* shared = getenv("VBL_SHARED_DATA");
+    char vdb[512], obj[512], text[2048], path[512];
+    snprintf(vdb, sizeof vdb, "%s/openusd_densityAndHeat.vdb", shared ? shared : ".");
+    FILE* f = fopen(vdb, "rb");
+    if (!f) {
+        printf("SKIP: %s absent\n", vdb);
+        return;
+    }
+    fclose(f);
+    rt_write_file(g_dir, "ground.obj", "v -30 -30 -3\nv 30 -30 -3\nv 30 30 -3\nv -30 30 -3\nf 1 2 3\nf 1 3 4\n", obj);
+    snprintf(text, sizeof text,
+             "{\"camera\": {\"position\": [0, -45, 12], \"look_at\": [0, 0, 6], \"up\": [0, 0, 1], \"fov_deg\": 40, "
+             "\"resolution\": [24, 18]}, "
+             "\"media\": [{\"vdb\": \"%s\", \"density_scale\": 2, \"albedo\": 0.5, "
+             "\"temperature\": {\"scale\": 3000, \"blackbody_intensity\": 4}}], "
+             "\"surfaces\": [{\"mesh\": \"ground.obj\", \"material\": {\"type\": \"lambert\", \"albedo\": 0.5}}], "
+             "\"render\": {\"passes\": 1, \"spp\": 4, \"seed\": 9, \"max_bounces\": -1}}",
+             vdb);
+    rt_write_file(g_dir, "fire.json", text, path);
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+    assert_true(scene->has_emission);
+    vbl_film* films[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k) {
+        vbl_render_options o = scene->render;
+        o.threads = k + 1;
+        assert_int_equal(vbl_render(scene, &o, &films[k]), VBL_SUCCESS);
+    }
+    int w = vbl_film_width(films[0]), h = vbl_film_height(films[0]), c = 0;
+    const float* beauty = vbl_film_layer(films[0], "", &c);
+    assert_null(vbl_film_layer(films[0], "emission", &c));
+    const char* layers[] = {"emission", "volume_emission", "volume_direct", "volume_from_volume", "surface_direct",
+                            "surface_from_surface", "surface_from_volume", "volume_from_surface"};
+    double emitted = 0.0, ground = 0.0;
+    for (int i = 0; i < w * h; ++i)
+        for (int ch = 0; ch < 3; ++ch) {
+            double sum = 0.0;
+            for (size_t l = 0; l < sizeof layers / sizeof layers[0]; ++l) {
+                int lc = 0;
+                const float* p = vbl_film_layer(films[0], layers[l], &lc);
+                if (l == 1 || l == 4) assert_non_null(p); /* no lights: only the fire lights anything */
+                if (!p) continue;
+                assert_true(isfinite(p[3 * i + ch]) && p[3 * i + ch] >= 0.0f);
+                sum += p[3 * i + ch];
+                if (l == 1) emitted += p[3 * i + ch];
+                if (l == 4) ground += p[3 * i + ch];
+            }
+            assert_true(isfinite(beauty[4 * i + ch]));
+            assert_true(fabs(beauty[4 * i + ch] - sum) <= 1e-5 * fabs(sum) + 1e-12);
+        }
+    printf("fire cache: volume_emission sum %.4g, surface_direct sum %.4g\n", emitted, ground);
+    assert_true(emitted > 0.0 && ground > 0.0);
+    const float* beauty2 = vbl_film_layer(films[1], "", &c);
+    assert_memory_equal(beauty, beauty2, sizeof(float) * 4 * (size_t)(w * h));
+    vbl_film_release(films[0]);
+    vbl_film_release(films[1]);
+    vbl_scene_release(scene);
+}
+
 static int setup(void** state)
 {
     (void)state;
@@ -295,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_blackbody_chromaticity),
         cmocka_unit_test(test_emission_box_closed_form),
         cmocka_unit_test(test_role_grids),
+        cmocka_unit_test(test_fire_cache_end_to_end),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
