@@ -84,5 +84,6 @@ vbl_result vbl_scene_set_medium_emission(vbl_scene* scene, int index, vbl_volume
                               (temperature && blackbody_intensity > 0.0));
     scene->has_emission = 0;
     for (int i = 0; i < scene->media_count; ++i) scene->has_emission |= scene->media[i].emissive;
-    return VBL_SUCCESS;
+    scene->emission_nee = 1;
+    return vbl_emission_lights_build(&scene->emission_lights, scene);
 }

@@ -21,6 +21,7 @@ void vbl_scene_release(vbl_scene* scene)
         if (m->temperature_volume) vbl_volume_release(m->temperature_volume);
         vbl_blackbody_table_free(&m->blackbody);
     }
+    vbl_emission_lights_free(&scene->emission_lights);
     vbl_scene_free_surfaces(scene);
     free(scene);
 }

@@ -10,6 +10,7 @@
 #include "geometry/surfaces.h"
 #include "material/material.h"
 #include "vbl/vbl_render.h"
+#include "scene/emission_lights.h"
 #include "volume/blackbody.h"
 #include "volume/extinction.h"
 
@@ -77,6 +78,9 @@ struct vbl_scene {
     int media_count;
     vbl_extinction extinction; /* components in media order */
     int has_emission;          /* some medium is emissive (decided once at load) */
+    vbl_emission_lights emission_lights; /* emissive media as light sources (pt's NEE) */
+    int emission_nee;          /* 1 (default): pt samples emissive media as lights (MIS with phase/BRDF
+                                  sampling); 0: emission only by tracking (tests compare the two) */
     /* surfaces (docs/readme/surfaces.md): NULL/0 for media-only scenes, which then never call
      * Embree. Surface i uses materials[i]. */
     vbl_surfaces* surfaces;
