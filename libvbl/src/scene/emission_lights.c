@@ -2,6 +2,7 @@
 #include "scene/emission_lights.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 #include "core/error.h"
@@ -39,14 +40,27 @@ static double vbl_le_bound(const vbl_medium* m)
     return le;
 }
 
+/* At most this many emitters per medium: majorant blocks are grouped f^3 at a time (f a power of
+ * two) so that sampling and pdf evaluation, O(emitters) per vertex, stay cheap on big caches. */
+#define VBL_EMITTERS_PER_MEDIUM 2048
+
+static int vbl_group_factor(const vbl_majorant_grid* g)
+{
+    int f = 1;
+    for (;;) {
+        int64_t n = 1;
+        for (int a = 0; a < 3; ++a) n *= (g->dims[a] + f - 1) / f;
+        if (n <= VBL_EMITTERS_PER_MEDIUM) return f;
+        f *= 2;
+    }
+}
+
 vbl_result vbl_emission_lights_build(vbl_emission_lights* lights, const vbl_scene* scene)
 {
     vbl_emission_lights_free(lights);
     size_t total = 0;
-    for (int i = 0; i < scene->media_count; ++i) {
-        const vbl_majorant_grid* g = &scene->media[i].volume->majorant;
-        if (scene->media[i].emissive && g->max_density) total += (size_t)g->dims[0] * g->dims[1] * g->dims[2];
-    }
+    for (int i = 0; i < scene->media_count; ++i)
+        if (scene->media[i].emissive && scene->media[i].volume->majorant.max_density) total += VBL_EMITTERS_PER_MEDIUM;
     if (total == 0) return VBL_SUCCESS;
     lights->blocks = malloc(total * sizeof *lights->blocks);
     if (!lights->blocks) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for emission blocks", scene->path);
@@ -58,25 +72,34 @@ vbl_result vbl_emission_lights_build(vbl_emission_lights* lights, const vbl_scen
         double absorb = fmax(1.0 - m->albedo.x, fmax(1.0 - m->albedo.y, 1.0 - m->albedo.z));
         double le = vbl_le_bound(m) * absorb * m->density_scale;
         if (!(le > 0.0)) continue;
-        for (int bz = 0; bz < g->dims[2]; ++bz)
-            for (int by = 0; by < g->dims[1]; ++by)
-                for (int bx = 0; bx < g->dims[0]; ++bx) {
-                    double dmax = g->max_density[((size_t)bz * g->dims[1] + by) * g->dims[0] + bx];
+        const int f = vbl_group_factor(g);
+        int gd[3];
+        for (int a = 0; a < 3; ++a) gd[a] = (g->dims[a] + f - 1) / f;
+        for (int gz = 0; gz < gd[2]; ++gz)
+            for (int gy = 0; gy < gd[1]; ++gy)
+                for (int gx = 0; gx < gd[0]; ++gx) {
+                    /* the group's blocks [g f, min((g+1) f, dims)) and their density bound */
+                    const int lo[3] = {gx * f, gy * f, gz * f};
+                    int hi[3];
+                    for (int a = 0; a < 3; ++a) hi[a] = lo[a] + f < g->dims[a] ? lo[a] + f : g->dims[a];
+                    double dmax = 0.0;
+                    for (int bz = lo[2]; bz < hi[2]; ++bz)
+                        for (int by = lo[1]; by < hi[1]; ++by)
+                            for (int bx = lo[0]; bx < hi[0]; ++bx)
+                                dmax = fmax(dmax, g->max_density[((size_t)bz * g->dims[1] + by) * g->dims[0] + bx]);
                     if (!(dmax > 0.0)) continue;
-                    /* the block's index box [o + bB, o + (b+1)B], corners to scene space */
-                    const int b[3] = {bx, by, bz};
+                    /* its index box [o + lo B, o + hi B], corners to scene space */
                     vbl_vec3 corners[8], c = vbl_v3(0.0, 0.0, 0.0);
                     for (int k = 0; k < 8; ++k) {
                         double idx[3];
-                        for (int a = 0; a < 3; ++a)
-                            idx[a] = g->origin[a] + (double)(b[a] + ((k >> a) & 1)) * g->block;
+                        for (int a = 0; a < 3; ++a) idx[a] = g->origin[a] + (double)(((k >> a) & 1) ? hi[a] : lo[a]) * g->block;
                         vbl_vec3 w = vbl_affine_point(&v->index_to_world, vbl_v3(idx[0], idx[1], idx[2]));
                         corners[k] = vbl_affine_point(&m->volume_to_scene, w);
                         c = vbl_v3_madd(c, corners[k], 0.125);
                     }
                     double r = 0.0;
                     for (int k = 0; k < 8; ++k) r = fmax(r, vbl_v3_length(vbl_v3_sub(corners[k], c)));
-                    r *= 1.0 + 1e-9; /* rounding: the sphere must contain the block */
+                    r *= 1.0 + 1e-9; /* rounding: the sphere must contain the box */
                     vbl_emission_block* e = &lights->blocks[lights->count++];
                     e->center = c;
                     e->radius = r;
