@@ -8,7 +8,7 @@ mode="${1:-demo}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
 packages=(
-  cmake make gcc g++ pkg-config python3 python3-numpy
+  cmake make gcc g++ pkg-config python3 python3-numpy python3-colormath
   libopenvdb-dev libnanovdb-dev libopenvdb-tools libnanovdb-tools libblosc-dev zlib1g-dev
   libboost-iostreams-dev libtbb-dev libopenexr-dev libopencolorio-dev libembree-dev libosd-dev
   libcjson-dev libpng-dev libcmocka-dev openimageio-tools libassimp-dev

@@ -127,6 +127,10 @@ int vbl_cmd_info(int argc, char** argv)
         for (size_t g = 0; g < count; ++g) {
             const vbl_grid_description* d = &grids[g];
             printf("[%zu] '%s' %s\n", g, d->name, d->type);
+            const char* role = vbl_grid_role_for(d->name);
+            int unused_role = role && (!strcmp(role, "albedo") || !strcmp(role, "velocity"));
+            printf("    %-16s %s%s\n", "role:", role ? role : "none (name it in the scene to use it)",
+                   unused_role ? " (not used by this version)" : "");
             printf("    %-16s %s\n", "codec:", d->codec);
             if (!d->is_float) {
                 printf("    %-16s %.17g %.17g %.17g\n", "voxel size:", d->voxel_size[0], d->voxel_size[1], d->voxel_size[2]);

@@ -275,7 +275,7 @@ static void test_transport_class_names(void** state)
     static const char* const expected[VBL_CLASS_COUNT] = {"emission",          "surface_direct",
                                                           "volume_direct",     "surface_from_surface",
                                                           "surface_from_volume", "volume_from_surface",
-                                                          "volume_from_volume"};
+                                                          "volume_from_volume",  "volume_emission"};
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
         assert_string_equal(vbl_transport_class_name((vbl_transport_class)c), expected[c]);
         vbl_transport_class back;

@@ -17,7 +17,7 @@
 
 static const char* const layer_names[VBL_CLASS_COUNT] = {
     "emission",           "surface_direct",      "volume_direct",     "surface_from_surface",
-    "surface_from_volume", "volume_from_surface", "volume_from_volume"};
+    "surface_from_volume", "volume_from_surface", "volume_from_volume", "volume_emission"};
 
 /* The quad c +- u +- v (two triangles) with material m. */
 static inline void add_quad(vbl_scene* scene, vbl_vec3 c, vbl_vec3 u, vbl_vec3 v, const vbl_material* m)

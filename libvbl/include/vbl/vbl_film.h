@@ -30,7 +30,8 @@ typedef enum vbl_transport_class {
     VBL_CLASS_SURFACE_FROM_VOLUME = 4,  /* camera-visible surface lit by medium scattering */
     VBL_CLASS_VOLUME_FROM_SURFACE = 5,  /* medium vertex lit by a surface bounce */
     VBL_CLASS_VOLUME_FROM_VOLUME = 6,   /* scattered two or more times, last two in the media */
-    VBL_CLASS_COUNT = 7
+    VBL_CLASS_VOLUME_EMISSION = 7,      /* light emitted by the media seen directly (attenuated) */
+    VBL_CLASS_COUNT = 8
 } vbl_transport_class;
 
 /* The layer name of a class ("emission", "surface_direct", "volume_direct", ...); NULL out of range. */

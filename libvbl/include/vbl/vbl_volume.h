@@ -127,6 +127,11 @@ typedef struct vbl_grid_description {
     char codec[64];           /* "blosc + active mask", "zip + active mask", "nanovdb BLOSC", ... */
 } vbl_grid_description;
 
+/* The role a scene medium gives a grid of this name when the scene names no grid for that role
+ * ("density", "emission", "temperature", "albedo", "velocity"; docs/readme/emission.md), or
+ * NULL if the name has no role. */
+VBL_API const char* vbl_grid_role_for(const char* grid_name);
+
 /* Lists every grid of a file; free the array with vbl_grid_descriptions_free. */
 VBL_API vbl_result vbl_file_list_grids(const char* path, vbl_grid_description** out_grids, size_t* out_count);
 VBL_API void vbl_grid_descriptions_free(vbl_grid_description* grids);

@@ -10,7 +10,7 @@
 /* The one list of layer names (vbl/vbl_film.h): the film, the EXR files, vbl merge and Python use it. */
 static const char* const vbl_class_layer_names[VBL_CLASS_COUNT] = {
     "emission",          "surface_direct",      "volume_direct",     "surface_from_surface",
-    "surface_from_volume", "volume_from_surface", "volume_from_volume"};
+    "surface_from_volume", "volume_from_surface", "volume_from_volume", "volume_emission"};
 
 const char* vbl_transport_class_name(vbl_transport_class transport_class)
 {
@@ -26,25 +26,26 @@ vbl_result vbl_transport_class_parse(const char* name, vbl_transport_class* out)
         }
     return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
                      "'%s' is not a transport class (emission, surface_direct, volume_direct, surface_from_surface, "
-                     "surface_from_volume, volume_from_surface, volume_from_volume)",
+                     "surface_from_volume, volume_from_surface, volume_from_volume, volume_emission)",
                      name ? name : "");
 }
 
 void vbl_film_layout_for(const vbl_scene* scene, const vbl_render_options* options, vbl_film_layout* layout)
 {
     memset(layout, 0, sizeof *layout);
-    int lit_media = scene->media_count > 0 && scene->light_count > 0;
+    int lit_media = scene->media_count > 0 && (scene->light_count > 0 || scene->has_emission);
     layout->transport[VBL_CLASS_EMISSION] = scene->has_visible_lights;
     layout->transport[VBL_CLASS_VOLUME_DIRECT] = lit_media && options->max_bounces != 0;
     layout->transport[VBL_CLASS_VOLUME_FROM_VOLUME] =
         lit_media && (options->max_bounces < 0 || options->max_bounces >= 2);
     /* surface classes (scattering events: surface_direct 1, the *_from_* classes at least 2) */
-    int lit_surfaces = scene->has_surfaces && scene->light_count > 0;
+    int lit_surfaces = scene->has_surfaces && (scene->light_count > 0 || scene->has_emission);
     int two = options->max_bounces < 0 || options->max_bounces >= 2;
     layout->transport[VBL_CLASS_SURFACE_DIRECT] = lit_surfaces && options->max_bounces != 0;
     layout->transport[VBL_CLASS_SURFACE_FROM_SURFACE] = lit_surfaces && two;
     layout->transport[VBL_CLASS_SURFACE_FROM_VOLUME] = lit_surfaces && two;
     layout->transport[VBL_CLASS_VOLUME_FROM_SURFACE] = lit_surfaces && scene->media_count > 0 && two;
+    layout->transport[VBL_CLASS_VOLUME_EMISSION] = scene->has_emission;
     layout->depth = scene->media_count > 0 || scene->has_surfaces;
 }
 

@@ -167,6 +167,10 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_result r = vbl_render_validate(scene, options);
     if (r) return r;
     if (!out_film || !est) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
+    if (scene->has_emission && strcmp(est->name, "pt") != 0)
+        return vbl_error(VBL_ERROR_UNSUPPORTED,
+                         "%s: the scene has emissive media, which only method 'pt' renders so far (not '%s')",
+                         scene->path, est->name);
 
     vbl_render_context ctx;
     memset(&ctx, 0, sizeof ctx);
@@ -222,6 +226,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             vbl_thread_state ts;
             memset(&ts, 0, sizeof ts);
             vbl_extinction_cursor_init(&ts.cursor, ctx.extinction);
+            if (scene->has_emission) vbl_emission_cursor_init(&ts.emission, scene);
 #pragma omp for schedule(dynamic, 1)
             for (int tile = 0; tile < tile_count; ++tile) {
                 int x0 = (tile % tiles_x) * VBL_TILE, y0 = (tile / tiles_x) * VBL_TILE;

@@ -14,8 +14,14 @@ void vbl_scene_retain(vbl_scene* scene)
 void vbl_scene_release(vbl_scene* scene)
 {
     if (!scene || __atomic_sub_fetch(&scene->refcount, 1, __ATOMIC_ACQ_REL) != 0) return;
-    for (int i = 0; i < scene->media_count; ++i)
-        if (scene->media[i].volume) vbl_volume_release(scene->media[i].volume);
+    for (int i = 0; i < scene->media_count; ++i) {
+        vbl_medium* m = &scene->media[i];
+        if (m->volume) vbl_volume_release(m->volume);
+        if (m->emission_volume) vbl_volume_release(m->emission_volume);
+        if (m->temperature_volume) vbl_volume_release(m->temperature_volume);
+        vbl_blackbody_table_free(&m->blackbody);
+    }
+    vbl_emission_lights_free(&scene->emission_lights);
     vbl_scene_free_surfaces(scene);
     free(scene);
 }

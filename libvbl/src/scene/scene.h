@@ -10,6 +10,8 @@
 #include "geometry/surfaces.h"
 #include "material/material.h"
 #include "vbl/vbl_render.h"
+#include "scene/emission_lights.h"
+#include "volume/blackbody.h"
 #include "volume/extinction.h"
 
 #define VBL_MAX_LIGHTS 64
@@ -50,6 +52,17 @@ typedef struct vbl_medium {
     double g;            /* Henyey-Greenstein asymmetry in (-1, 1) */
     vbl_affine volume_to_scene;
     vbl_affine scene_to_volume;
+    /* Emission (docs/readme/emission.md): radiance per unit length sigma_a(x) Le(x) with
+     * Le = emission_scale * emission_color * E(x) + blackbody_intensity * B(T(x) * temperature_scale +
+     * temperature_offset); E, T are float grids (NULL: that term is absent), each sampled in its
+     * own file's world space through scene_to_volume. */
+    vbl_volume* emission_volume;
+    vbl_vec3 emission_color;
+    double emission_scale;
+    vbl_volume* temperature_volume;
+    double temperature_scale, temperature_offset, blackbody_intensity;
+    vbl_blackbody_table blackbody; /* built when temperature_volume is set */
+    int emissive;                  /* some term can emit (and the medium absorbs somewhere) */
 } vbl_medium;
 
 struct vbl_scene {
@@ -64,6 +77,10 @@ struct vbl_scene {
     vbl_medium media[VBL_MAX_MEDIA];
     int media_count;
     vbl_extinction extinction; /* components in media order */
+    int has_emission;          /* some medium is emissive (decided once at load) */
+    vbl_emission_lights emission_lights; /* emissive media as light sources (pt's NEE) */
+    int emission_nee;          /* 1 (default): pt samples emissive media as lights (MIS with phase/BRDF
+                                  sampling); 0: emission only by tracking (tests compare the two) */
     /* surfaces (docs/readme/surfaces.md): NULL/0 for media-only scenes, which then never call
      * Embree. Surface i uses materials[i]. */
     vbl_surfaces* surfaces;

@@ -14,6 +14,8 @@
 #include "scene/scene_build.h"
 #include "scene/scene_frame.h"
 #include "scene/scene_render_block.h"
+#include "scene/media_emission.h"
+#include "scene/scene_grids.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"
 
@@ -232,7 +234,8 @@ static vbl_result vbl_parse_transform(const vbl_json_ctx* ctx, const cJSON* item
 static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
                                    const char* field, const char* dir, const char* vdb_override, vbl_medium* medium)
 {
-    static const char* const keys[] = {"vdb", "grid", "density_scale", "albedo", "phase", "transform", NULL};
+    static const char* const keys[] = {"vdb",       "grid",     "density_scale", "albedo", "phase",
+                                       "transform", "emission", "temperature",   NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
@@ -292,6 +295,81 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
         return vbl_error(r, "%s: %s.vdb = '%s': %s", ctx->path, field, medium->vdb_path, inner);
     }
     return VBL_SUCCESS;
+}
+
+/* A role object's file: its own "vdb" (relative to the scene) or the medium's. */
+static vbl_result vbl_role_file(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
+                                const char* medium_path, char* out, size_t size)
+{
+    const char* vdb = NULL;
+    vbl_result r = vbl_json_string(ctx, obj, field, "vdb", 0, &vdb);
+    if (r) return r;
+    if (!vdb) snprintf(out, size, "%s", medium_path);
+    else if (vdb[0] == '/') snprintf(out, size, "%s", vdb);
+    else snprintf(out, size, "%s%s", dir, vdb);
+    return VBL_SUCCESS;
+}
+
+/* The emission roles of medium `index` (docs/readme/emission.md): "emission" {grid, vdb, color,
+ * scale} and "temperature" {grid, vdb, scale, offset, blackbody_intensity, normalization}. */
+static vbl_result vbl_parse_medium_emission(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
+                                            const char* field, const char* dir, vbl_scene* scene, int index)
+{
+    static const char* const emission_keys[] = {"grid", "vdb", "color", "scale", NULL};
+    static const char* const temperature_keys[] = {"grid",  "vdb", "scale", "offset", "blackbody_intensity",
+                                                   "normalization", NULL};
+    const cJSON *em = NULL, *te = NULL;
+    char ef[512], tf[512], path[1024];
+    vbl_json_field(ef, sizeof ef, field, "emission");
+    vbl_json_field(tf, sizeof tf, field, "temperature");
+    vbl_result r;
+    if ((r = vbl_json_object(ctx, obj, field, "emission", 0, &em))) return r;
+    if ((r = vbl_json_object(ctx, obj, field, "temperature", 0, &te))) return r;
+    if (!em && !te) return VBL_SUCCESS;
+    vbl_volume *emission = NULL, *temperature = NULL;
+    vbl_vec3 color = vbl_v3(1.0, 1.0, 1.0);
+    double scale = 1.0, t_scale = 1.0, t_offset = 0.0, intensity = 1.0;
+    vbl_blackbody_normalization norm = VBL_BLACKBODY_PEAK;
+    const char* medium_path = scene->media[index].vdb_path;
+    if (em) {
+        const char* grid = NULL;
+        if ((r = vbl_json_check_keys(ctx, em, ef, emission_keys))) goto done;
+        if ((r = vbl_json_string(ctx, em, ef, "grid", 0, &grid))) goto done;
+        if ((r = vbl_parse_color(ctx, colors, em, ef, "color", 0, 0.0, VBL_COLOR_MAX, &color))) goto done;
+        if ((r = vbl_json_number(ctx, em, ef, "scale", 0, &scale))) goto done;
+        if (!(scale >= 0.0)) {
+            r = vbl_json_fail(ctx, "%s.scale = %g is negative", ef, scale);
+            goto done;
+        }
+        if ((r = vbl_role_file(ctx, em, ef, dir, medium_path, path, sizeof path))) goto done;
+        if ((r = vbl_load_role_grid(ctx->path, ef, VBL_ROLE_EMISSION, path, grid, &emission))) goto done;
+    }
+    if (te) {
+        const char *grid = NULL, *normalization = "peak";
+        if ((r = vbl_json_check_keys(ctx, te, tf, temperature_keys))) goto done;
+        if ((r = vbl_json_string(ctx, te, tf, "grid", 0, &grid))) goto done;
+        if ((r = vbl_json_number(ctx, te, tf, "scale", 0, &t_scale))) goto done;
+        if ((r = vbl_json_number(ctx, te, tf, "offset", 0, &t_offset))) goto done;
+        if ((r = vbl_json_number(ctx, te, tf, "blackbody_intensity", 0, &intensity))) goto done;
+        if ((r = vbl_json_string(ctx, te, tf, "normalization", 0, &normalization))) goto done;
+        if (!(intensity >= 0.0)) {
+            r = vbl_json_fail(ctx, "%s.blackbody_intensity = %g is negative", tf, intensity);
+            goto done;
+        }
+        if (!strcmp(normalization, "luminance")) norm = VBL_BLACKBODY_LUMINANCE;
+        else if (strcmp(normalization, "peak")) {
+            r = vbl_json_fail(ctx, "%s.normalization = \"%s\" is not \"peak\" or \"luminance\"", tf, normalization);
+            goto done;
+        }
+        if ((r = vbl_role_file(ctx, te, tf, dir, medium_path, path, sizeof path))) goto done;
+        if ((r = vbl_load_role_grid(ctx->path, tf, VBL_ROLE_TEMPERATURE, path, grid, &temperature))) goto done;
+    }
+    r = vbl_scene_set_medium_emission(scene, index, emission, color, scale, temperature, t_scale, t_offset, intensity,
+                                      norm);
+done:
+    if (emission) vbl_volume_release(emission);
+    if (temperature) vbl_volume_release(temperature);
+    return r;
 }
 
 /* Surface colours go through the same conversion as media albedo (scene_surfaces.h). */
@@ -366,6 +444,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
                 return r;
             scene->media_count = i + 1; /* so a failure releases what was loaded */
             if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, &scene->media[i]))) return r;
+            if ((r = vbl_parse_medium_emission(&ctx, &colors, m, field, dir, scene, i))) return r;
         }
         scene->media_count = i;
     }

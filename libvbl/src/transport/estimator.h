@@ -21,6 +21,7 @@
 
 #include "core/rng.h"
 #include "vbl/vbl_film.h"
+#include "scene/media_emission.h"
 #include "scene/scene.h"
 #include "volume/transmittance.h"
 
@@ -50,6 +51,7 @@ typedef struct vbl_render_context {
 
 typedef struct vbl_thread_state {
     vbl_extinction_cursor cursor;
+    vbl_emission_cursor emission; /* initialised only when scene->has_emission */
     void* scratch; /* estimator-owned, NULL unless the estimator manages it */
 } vbl_thread_state;
 
@@ -139,6 +141,22 @@ static inline int vbl_ctx_free_flight(const vbl_render_context* ctx, vbl_thread_
         return 0;
     return vbl_free_flight_sample(ctx->extinction, &ts->cursor, origin, direction, t0, t1,
                                   ctx->tracking.use_global_majorant, rng, t_collision, sigma_t, component_sigma_t);
+}
+
+/* vbl_ctx_free_flight with a visitor at every tentative collision (vbl_free_flight_sample_visit):
+ * the same random numbers and collisions; the emission estimators of emissive scenes use it. */
+static inline int vbl_ctx_free_flight_visit(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                            vbl_vec3 direction, double t_max, vbl_rng* rng, double* t_collision,
+                                            double* sigma_t, double* component_sigma_t, vbl_tracking_visit visit,
+                                            void* user)
+{
+    double t0, t1;
+    if (ctx->extinction->count == 0 ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
+        return 0;
+    return vbl_free_flight_sample_visit(ctx->extinction, &ts->cursor, origin, direction, t0, t1,
+                                        ctx->tracking.use_global_majorant, rng, t_collision, sigma_t,
+                                        component_sigma_t, visit, user);
 }
 
 #endif

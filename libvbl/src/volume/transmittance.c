@@ -42,6 +42,8 @@ typedef struct vbl_tracker {
     vbl_rng* rng;
     int sampling; /* 1: free-flight sampling (a real collision must be produced, not a weight) */
     double mu_scale; /* > 1: tentative collisions at this multiple of the majorant (estimates only) */
+    vbl_tracking_visit visit; /* free flight only, may be NULL: called at every tentative point */
+    void* visit_user;
 } vbl_tracker;
 
 /* A segment of constant, known extinction (see above). */
@@ -125,6 +127,8 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
                     if (ext->count == 1) per_component[0] = sigma;
                     else vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
                 }
+                /* the analytic flight draws only the real collision: its own majorant is sigma */
+                if (tr->visit) tr->visit(tr->visit_user, vbl_v3_madd(origin, direction, t), sigma, per_component);
                 return VBL_TRACK_STOP;
             }
             tr->weight *= exp(-sigma * (seg.t1 - seg.t0));
@@ -147,6 +151,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             t = vbl_exp_step(t, mu, tr->rng);
             if (t >= seg.t1) break;
             double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
+            if (tr->visit) tr->visit(tr->visit_user, vbl_v3_madd(origin, direction, t), mu, per_component);
             if (vbl_tracker_event(tr, sigma_t, mu, sigma_c) == VBL_TRACK_STOP) {
                 tr->t_stop = t;
                 tr->sigma_stop = sigma_t;
@@ -235,7 +240,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RATIO_TRACKING:
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
-        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale};
+        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -249,7 +254,22 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL};
+    if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
+        return 0;
+    if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
+    if (sigma_t_at) *sigma_t_at = tr.sigma_stop;
+    return 1;
+}
+
+int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                 vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                                 double* t_collision, double* sigma_t_at, double* per_component,
+                                 vbl_tracking_visit visit, void* visit_user)
+{
+    double len;
+    if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -265,7 +285,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL};
     int records = 0;
     double t_last = t0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

@@ -32,4 +32,20 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
                            vbl_vec3 direction, double t0, double t1, int use_global_majorant,
                            vbl_rng* rng, double* t_collision, double* sigma_t_at, double* per_component);
 
+/* Called by vbl_free_flight_sample_visit at every tentative collision point p (null or real,
+ * before the real/null decision) with the majorant mu it was drawn with, and the per-component
+ * sigma_t there. Summing f(p) / mu over these points estimates int_0^d T(t) f(x_t) dt without
+ * bias (the null-collision formulation: the points are a Poisson process of rate mu, and the
+ * walk reaches each with probability T); in a homogeneous segment (known sigma) only the real
+ * collision is drawn, with mu = sigma (the collision estimator). */
+typedef void (*vbl_tracking_visit)(void* user, vbl_vec3 p, double mu, const double* per_component);
+
+/* vbl_free_flight_sample with a visitor (the same random numbers, the same collisions); the
+ * direction is made unit first, so `p` is a scene point and mu per world unit. per_component
+ * must not be NULL. */
+int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                 vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                                 double* t_collision, double* sigma_t_at, double* per_component,
+                                 vbl_tracking_visit visit, void* visit_user);
+
 #endif
