@@ -12,6 +12,7 @@
  *   Tw exact   the connection's ratio-tracking estimate replaced by ray marching
  *   Tc exact   the camera cache replaced by ray marching to u
  *   T exact    both
+ *   Tc exact, Tw = 1 / Tc = 1, Tw exact   one transmittance's shape alone
  *   T = 1      both transmittances dropped (the sampler against phase x sigma_s x sigma_s / w^2)
  *   no sigma   T exact and sigma_s(u) sigma_s(v) dropped (phases / w^2 and Tc Tw against the pdf)
  *   geometry   phase_geometry / pdf only (the sampler against its own target)
@@ -20,7 +21,7 @@
  * draws (u, v) with the transmittance-aware MIS sampler (sampling/vrl_camera_mis.h) instead of
  * the product sampler alone (default 0: the sampler before issue 13's second round); --rr sets
  * the Russian-roulette threshold of the ratio-tracked camera cache and connections (default 0.1:
- * the value before; the estimator's default is now VBL_VRL_TRANSMITTANCE_RR). */
+ * the estimator's default). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -42,8 +43,8 @@
 #define VBL_BENCH_SOURCE_DIR "."
 #endif
 
-enum { V_FULL, V_TW, V_TC, V_T, V_T1, V_NOSIG, V_GEOM, V_COUNT };
-static const char* const vnames[V_COUNT] = {"full", "Tw exact", "Tc exact", "T exact", "T = 1", "no sigma", "geometry"};
+enum { V_FULL, V_TW, V_TC, V_T, V_TCONLY, V_TWONLY, V_T1, V_NOSIG, V_GEOM, V_COUNT };
+static const char* const vnames[V_COUNT] = {"full", "Tw exact", "Tc exact", "T exact", "Tc exact, Tw = 1", "Tc = 1, Tw exact", "T = 1", "no sigma", "geometry"};
 
 static int cmp_d(const void* a, const void* b)
 {
@@ -128,6 +129,8 @@ int main(int argc, char** argv)
                             x[V_TW] += base * f.tc * f.tw_march;
                             x[V_TC] += base * f.tc_march * f.tw;
                             x[V_T] += base * f.tc_march * f.tw_march;
+                            x[V_TCONLY] += base * f.tc_march;
+                            x[V_TWONLY] += base * f.tw_march;
                             x[V_T1] += base;
                             x[V_NOSIG] += base * f.tc_march * f.tw_march / (f.sigma_u * f.sigma_v);
                             x[V_GEOM] += f.power * f.phase_geometry / f.pdf;

@@ -27,7 +27,7 @@ static const shape kShapes[] = {
     {"empty middle", 4, {0, 1, 2, 3, 4}, {1, 0, 0, 2}, 0.0},
     {"empty middle, defensive", 4, {0, 1, 2, 3, 4}, {1, 0, 0, 2}, 0.2},
     {"zero-width piece", 4, {0, 1, 1, 2, 3}, {1, 50, 2, 1}, 0.0},
-    {"wide dynamic range", 3, {0, 1e-3, 1, 2}, {1e6, 1e-9, 1e-12}, 0.0},
+    {"wide dynamic range", 4, {0, 0.3, 1, 2, 3}, {1e3, 1e-1, 1e-4, 1e-7}, 0.0},
     {"all zero (uniform fallback)", 2, {0, 1, 3}, {0, 0}, 0.0},
     {"negative/NaN read as 0", 3, {0, 1, 2, 3}, {-1, NAN, 1}, 0.0},
 };
