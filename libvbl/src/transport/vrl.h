@@ -33,7 +33,13 @@
  * Light selection (select = K > 0): instead of every VRL, each camera sample draws K VRLs from a
  * light tree over the pass's VRLs by stochastic traversal (vrl_tree.h; Yuksel 2019, Estevez and
  * Kulla 2018) and weights each estimate by 1 / (K pdf): unbiased, O(K log N) per camera sample
- * instead of O(N), so a pass can afford many more light paths. */
+ * instead of O(N), so a pass can afford many more light paths.
+ *
+ * Opt-in, settings only (issue 13, second round; measured not to win, docs/readme/vrl.md):
+ * camera_mis = 1 draws each (u, v) by one-sample MIS of the product sampler and a technique that
+ * follows the camera ray's cached transmittance (sampling/vrl_camera_mis.h), and
+ * transmittance_rr sets the ratio-tracking roulette threshold of the camera cache and the
+ * connections (0.1 = the renderer's default). Both unbiased. */
 #ifndef VBL_TRANSPORT_VRL_H
 #define VBL_TRANSPORT_VRL_H
 
