@@ -21,7 +21,9 @@
  * draws (u, v) with the transmittance-aware MIS sampler (sampling/vrl_camera_mis.h) instead of
  * the product sampler alone (default 0: the sampler before issue 13's second round); --rr sets
  * the Russian-roulette threshold of the ratio-tracked camera cache and connections (default 0.1:
- * the estimator's default). */
+ * the estimator's default); --connect-scale K > 1 draws the connections' ratio-tracking tentative
+ * collisions at K x the majorant (vbl_tracking_settings.majorant_scale: lower variance, K x the
+ * lookups). The estimator's own cost per camera sample is printed with each scene. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -56,7 +58,7 @@ int main(int argc, char** argv)
 {
     const char* scenes = "cloud,dense";
     int light_paths = 150, width = 32, height = 24, R = 48, stride = 5, threads = 2, camera_mis = 0;
-    double rr = 0.1;
+    double rr = 0.1, connect_scale = 0.0;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--scenes")) scenes = argv[i + 1];
         else if (!strcmp(argv[i], "--light-paths")) light_paths = atoi(argv[i + 1]);
@@ -65,11 +67,12 @@ int main(int argc, char** argv)
         else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--camera-mis")) camera_mis = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--rr")) rr = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--connect-scale")) connect_scale = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--res")) {
             if (sscanf(argv[i + 1], "%dx%d", &width, &height) != 2) return 2;
         } else {
             fprintf(stderr, "usage: bench_vrl_tail [--scenes cloud,dense] [--light-paths N] [--res WxH] [--samples N] "
-                            "[--stride N] [--threads N] [--camera-mis 0|1] [--rr T]\n");
+                            "[--stride N] [--threads N] [--camera-mis 0|1] [--rr T] [--connect-scale K]\n");
             return 2;
         }
     }
@@ -90,6 +93,7 @@ int main(int argc, char** argv)
         o.light_paths = light_paths;
         ctx.options = o;
         ctx.tracking.estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;
+        ctx.tracking.majorant_scale = connect_scale; /* the store copies it for its connections */
         ctx.threads = threads;
         vbl_vrl_settings st;
         vbl_vrl_settings_from_options(&o, &st);
@@ -150,8 +154,32 @@ int main(int argc, char** argv)
                 peak[q] = s1[V_FULL] > 0.0 ? mx / (s1[V_FULL] / R) : -1.0;
             }
         }
-        printf("\n## %s (%zu VRLs)\n\n| variant | relative variance of one camera sample |\n|---|---|\n", names[sc],
-               ph->vrl_count);
+        /* cost of the estimator itself (vbl_vrl_camera_sample, 4 samples per pixel of the subset) */
+        double t0 = omp_get_wtime();
+#pragma omp parallel num_threads(threads)
+        {
+            vbl_thread_state ts;
+            memset(&ts, 0, sizeof ts);
+            vbl_extinction_cursor_init(&ts.cursor, ctx.extinction);
+#pragma omp for schedule(dynamic, 1)
+            for (int q = 0; q < np; ++q) {
+                int p = q * stride;
+                vbl_camera_sample cs;
+                memset(&cs, 0, sizeof cs);
+                vbl_camera_ray(&scene->camera, p % width + 0.5, p / width + 0.5, &cs.origin, &cs.direction);
+                cs.t_max = INFINITY;
+                for (int r = 0; r < 4; ++r) {
+                    vbl_rng rng = vbl_rng_make(13, (uint32_t)r, (uint64_t)p);
+                    vbl_sample_value v;
+                    memset(&v, 0, sizeof v);
+                    vbl_vrl_camera_sample(&ctx, store, &ts, &cs, &rng, &v);
+                }
+            }
+        }
+        const double us = 1e6 * (omp_get_wtime() - t0) * threads / (4.0 * np);
+        printf("\n## %s (%zu VRLs; the estimator: %.0f us per camera sample)\n\n"
+               "| variant | relative variance of one camera sample |\n|---|---|\n",
+               names[sc], ph->vrl_count, us);
         for (int v = 0; v < V_COUNT; ++v) {
             double sv = 0.0, sm = 0.0;
             for (int q = 0; q < np; ++q) {
