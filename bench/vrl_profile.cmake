@@ -12,3 +12,16 @@ target_compile_definitions(bench_vrl_profile PRIVATE
 if(TARGET vbl_sample_cloud)
   add_dependencies(bench_vrl_profile vbl_sample_cloud)
 endif()
+
+# Issue 13, round 2: which factor of the per-VRL estimate makes it heavy-tailed (bench/bench_vrl_tail.c).
+# Run: build/bench/bench_vrl_tail --scenes cloud,dense --light-paths 150 --res 32x24 --samples 48
+add_executable(bench_vrl_tail ${CMAKE_CURRENT_LIST_DIR}/bench_vrl_tail.c ${CMAKE_CURRENT_LIST_DIR}/bench_reference.c)
+set_target_properties(bench_vrl_tail PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+target_link_libraries(bench_vrl_tail PRIVATE vbl_static OpenMP::OpenMP_C m)
+target_include_directories(bench_vrl_tail PRIVATE ${PROJECT_SOURCE_DIR}/libvbl/src)
+target_compile_definitions(bench_vrl_tail PRIVATE
+  VBL_BENCH_DEFAULT_VDB="${PROJECT_BINARY_DIR}/samples/cloud.vdb"
+  VBL_BENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+if(TARGET vbl_sample_cloud)
+  add_dependencies(bench_vrl_tail vbl_sample_cloud)
+endif()

@@ -56,6 +56,16 @@ static vbl_result sel_vrl_begin(const vbl_render_context* ctx, void** store)
 }
 static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
 
+/* transmittance-aware pair sampling (sampling/vrl_camera_mis.h) with the low roulette threshold */
+static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
+    s.camera_mis = 1;
+    s.transmittance_rr = 0.01;
+    return vbl_vrl_pass_begin_with(ctx, &s, store);
+}
+static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+
 typedef struct scene_case {
     vbl_scene* scene;
     vbl_volume* volumes[2];
@@ -158,15 +168,18 @@ static void test_two_media_vrl(void** state) { (void)state; agree(two_media_dist
 static void test_two_media_vpl(void** state) { (void)state; agree(two_media_distant(RES), &vbl_estimator_vpl, 2, 1, 400, 4, 32, 0, "two media/distant vpl"); }
 static void test_long_vrl(void** state) { (void)state; agree(sphere_spot(RES), &long_vrl, 2, 1, 200, 4, 32, 0, "sphere/spot long-vrl"); }
 static void test_sel_vrl(void** state) { (void)state; agree(sphere_spot(RES), &sel_vrl, 2, 1, 1600, 4, 32, 0, "sphere/spot vrl-select"); }
+static void test_mis_vrl(void** state) { (void)state; agree(sphere_spot(RES), &mis_vrl, 2, 1, 400, 4, 32, 0, "sphere/spot vrl-camera-mis"); }
 static void test_rr_vrl(void** state) { (void)state; agree(box_point(RES), &rr_vrl, 2, 1, 400, 4, 32, 0, "box/point rr-vrl"); }
 
-int main(void)
+int main(int argc, char** argv)
 {
+    if (argc > 1) cmocka_set_test_filter(argv[1]);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_power_vrl), cmocka_unit_test(test_box_point_vrl),   cmocka_unit_test(test_box_point_vpl),
         cmocka_unit_test(test_sphere_spot_vrl), cmocka_unit_test(test_sphere_spot_vpl),
         cmocka_unit_test(test_two_media_vrl),   cmocka_unit_test(test_two_media_vpl),
         cmocka_unit_test(test_long_vrl),        cmocka_unit_test(test_rr_vrl), cmocka_unit_test(test_sel_vrl),
+        cmocka_unit_test(test_mis_vrl),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,9 +2,11 @@
 #include "transport/vrl.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 #include "render/radius_schedule.h"
+#include "sampling/vrl_camera_mis.h"
 #include "sampling/vrl_pair.h"
 #include "scene/media.h"
 #include "transport/light_emission.h"
@@ -88,6 +90,9 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
                          settings->samples);
     if (settings->select < 0)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl select = %d must be >= 0", scene->path, settings->select);
+    if (!(settings->transmittance_rr > 0.0 && settings->transmittance_rr <= 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl transmittance_rr = %g is outside (0, 1]", scene->path,
+                         settings->transmittance_rr);
     if (settings->rr_radius > 0.0 && !(settings->rr_min_probability > 0.0 && settings->rr_min_probability <= 1.0))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vrl rr_min_probability = %g is outside (0, 1]",
                          scene->path, settings->rr_min_probability);
@@ -111,6 +116,7 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     if (settings->rr_radius > 0.0 && vbl_media_bounding_sphere(scene, &center, &radius))
         s->rr_distance = settings->rr_radius * radius;
     s->connect = ctx->tracking;
+    s->connect.rr_threshold = settings->transmittance_rr;
     if (settings->connect_marching) {
         s->connect.estimator = VBL_TRANSMITTANCE_RAY_MARCHING;
         s->connect.march_step = settings->march_step;
@@ -195,10 +201,50 @@ double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tr
     return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, a, dir, t0, t1, settings, rng);
 }
 
+int vbl_vrl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, vbl_vec3 origin,
+                         vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_transmittance_cache* cache, double* u0,
+                         double* u1)
+{
+    const vbl_vrl_store* s = store;
+    if (ctx->extinction->count == 0 || !(t_max > 0.0) ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, u0, u1) || !(*u1 > *u0))
+        return 0;
+    vbl_transmittance_estimator kind = ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA
+                                           ? VBL_TRANSMITTANCE_CACHED_DELTA
+                                           : VBL_TRANSMITTANCE_CACHED_RATIO;
+    vbl_transmittance_cache_build_rr(cache, kind, ctx->extinction, &ts->cursor, origin, direction, *u0, *u1, 16,
+                                     ctx->tracking.use_global_majorant, s->settings.transmittance_rr, rng);
+    return 1;
+}
+
+int vbl_vrl_camera_step_pdf(const vbl_transmittance_cache* cache, double u0, double u1, vbl_step_pdf* out)
+{
+    /* T(u) = 1 before the first cached point, value[i] from t[i] on (vbl_transmittance_cache_eval) */
+    double x[VBL_STEP_PDF_MAX_PIECES + 1], y[VBL_STEP_PDF_MAX_PIECES];
+    int n = 0;
+    x[0] = u0;
+    double cur = 1.0;
+    for (int i = 0; i < cache->count && n < VBL_STEP_PDF_MAX_PIECES - 1; ++i) {
+        double t = cache->t[i];
+        if (t <= u0) {
+            cur = cache->value[i];
+            continue;
+        }
+        if (t >= u1) break;
+        y[n] = cur;
+        x[++n] = t;
+        cur = cache->value[i];
+    }
+    y[n] = cur;
+    x[++n] = u1;
+    return vbl_step_pdf_init(out, x, y, n, 0.0);
+}
+
 /* Adds one VRL's estimate of eq 7 over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *acc. */
 static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store* s, vbl_thread_state* ts,
                              const vbl_vrl* l, double v0, double v1, vbl_vec3 o, vbl_vec3 d, double u0, double u1,
-                             const vbl_transmittance_cache* cache, double weight, vbl_rng* rng, vbl_vec3* acc)
+                             const vbl_transmittance_cache* cache, const vbl_step_pdf* camera, double weight,
+                             vbl_rng* rng, vbl_vec3* acc)
 {
     const vbl_scene* scene = ctx->scene;
     const int S = s->settings.samples;
@@ -209,7 +255,11 @@ static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store*
     for (int k = 0; k < S; ++k) {
         double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
         vbl_vrl_pair_sample ps;
-        if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
+        if (camera) {
+            if (!vbl_vrl_camera_mis_draw(&pair, camera, vbl_rng_uniform(rng), xi1, xi2, &ps)) continue;
+        } else if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) {
+            continue;
+        }
         vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
         vbl_vec3 to = vbl_v3_sub(xu, xv);
         double w2 = vbl_v3_dot(to, to);
@@ -246,9 +296,12 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
 
     vbl_transmittance_cache cache;
     double u0, u1;
-    if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
+    if (!vbl_vrl_camera_cache(ctx, s, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     const int S = s->settings.samples;
+    vbl_step_pdf camera_pdf;
+    const vbl_step_pdf* camera =
+        s->settings.camera_mis && vbl_vrl_camera_step_pdf(&cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
     if (s->settings.select > 0) {
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
@@ -264,7 +317,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
             if (j < 0 || !(pdf > 0.0)) break;
             const vbl_vrl_tree_piece* pc = &s->tree.pieces[j];
             vbl_vrl_estimate(ctx, s, ts, &s->photons.vrls[pc->vrl], pc->v0, pc->v1, o, d, u0, u1, &cache,
-                             1.0 / (S * K * pdf), rng, &acc);
+                             camera, 1.0 / (S * K * pdf), rng, &acc);
         }
     } else {
         const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
@@ -281,7 +334,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
                     weight /= q;
                 }
             }
-            vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, weight, rng, &acc);
+            vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, camera, weight, rng, &acc);
         }
     }
     out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
@@ -297,8 +350,7 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
     *visible = 0.0;
     vbl_transmittance_cache cache;
     double u0, u1;
-    if (!s || !vbl_camera_segment_cache_to(ctx, ts, sample->origin, sample->direction, sample->t_max, rng, &cache, &u0,
-                                           &u1))
+    if (!s || !vbl_vrl_camera_cache(ctx, s, ts, sample->origin, sample->direction, sample->t_max, rng, &cache, &u0, &u1))
         return 0;
     *visible = vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT) / (u1 - u0);
     if (pdf) {
@@ -308,14 +360,70 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
         for (size_t j = 0; j < s->photons.vrl_count; ++j) pdf[j] = 0.0;
         for (int i = 0; i < s->tree.piece_count; ++i) pdf[s->tree.pieces[i].vrl] += vbl_vrl_tree_pdf(&s->tree, &q, i);
     }
+    vbl_step_pdf camera_pdf;
+    const vbl_step_pdf* camera =
+        s->settings.camera_mis && vbl_vrl_camera_step_pdf(&cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
     for (size_t j = 0; j < s->photons.vrl_count; ++j) {
         const vbl_vrl* l = &s->photons.vrls[j];
         if (M >= 0 && l->bounce + 2 > M) continue;
         vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
-        vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, sample->origin, sample->direction, u0, u1, &cache, 1.0, rng,
-                         &acc);
+        vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, sample->origin, sample->direction, u0, u1, &cache, camera,
+                         1.0, rng, &acc);
         contribution[j] = acc.x + acc.y + acc.z;
     }
+    return 1;
+}
+
+int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, size_t vrl,
+                           vbl_vec3 o, vbl_vec3 d, double u0, double u1, const vbl_transmittance_cache* cache,
+                           vbl_rng* rng, vbl_vrl_factors* out)
+{
+    const vbl_vrl_store* s = store;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_vrl* l = &s->photons.vrls[vrl];
+    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_vrl_pair pair;
+    memset(out, 0, sizeof *out);
+    if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g)) return 0;
+    double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+    vbl_vrl_pair_sample ps;
+    vbl_step_pdf camera;
+    if (s->settings.camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera)) {
+        if (!vbl_vrl_camera_mis_draw(&pair, &camera, vbl_rng_uniform(rng), xi1, xi2, &ps)) return 0;
+    } else if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) {
+        return 0;
+    }
+    vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
+    vbl_vec3 to = vbl_v3_sub(xu, xv);
+    double w2 = vbl_v3_dot(to, to);
+    if (!(w2 > 0.0)) return 0;
+    double w = sqrt(w2);
+    vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w);
+    out->pdf = ps.pdf;
+    out->w2 = w2;
+    out->phase_geometry = vbl_vrl_pair_phase_geometry(&pair, ps.u, ps.v);
+    out->tc = vbl_transmittance_cache_eval(cache, ps.u);
+    out->tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+    double su = vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u);
+    double sv = vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v);
+    out->sigma_u = su;
+    out->sigma_v = sv;
+    if (su > 0.0 && sv > 0.0) {
+        vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
+        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
+        vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
+        out->f = f.x + f.y + f.z;
+        out->power = l->power.x + l->power.y + l->power.z;
+    }
+    out->tw = vbl_vrl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
+    vbl_tracking_settings march = s->connect;
+    march.estimator = VBL_TRANSMITTANCE_RAY_MARCHING;
+    march.march_step = 0.0;
+    out->tw_march = vbl_vrl_connect_transmittance(ctx, &march, ts, xv, omega, w, rng);
+    double t0, t1;
+    out->tc_march = 1.0;
+    if (vbl_extinction_ray_bounds(ctx->extinction, o, d, u0, ps.u, &t0, &t1) && t1 > t0)
+        out->tc_march = vbl_transmittance_estimate(ctx->extinction, &ts->cursor, o, d, t0, t1, &march, rng);
     return 1;
 }
 

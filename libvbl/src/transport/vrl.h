@@ -33,7 +33,13 @@
  * Light selection (select = K > 0): instead of every VRL, each camera sample draws K VRLs from a
  * light tree over the pass's VRLs by stochastic traversal (vrl_tree.h; Yuksel 2019, Estevez and
  * Kulla 2018) and weights each estimate by 1 / (K pdf): unbiased, O(K log N) per camera sample
- * instead of O(N), so a pass can afford many more light paths. */
+ * instead of O(N), so a pass can afford many more light paths.
+ *
+ * Opt-in, settings only (issue 13, second round; measured not to win, docs/readme/vrl.md):
+ * camera_mis = 1 draws each (u, v) by one-sample MIS of the product sampler and a technique that
+ * follows the camera ray's cached transmittance (sampling/vrl_camera_mis.h), and
+ * transmittance_rr sets the ratio-tracking roulette threshold of the camera cache and the
+ * connections (0.1 = the renderer's default). Both unbiased. */
 #ifndef VBL_TRANSPORT_VRL_H
 #define VBL_TRANSPORT_VRL_H
 
@@ -50,9 +56,29 @@ typedef struct vbl_vrl_settings {
     double surface_alpha;      /* eq 11 alpha of the surface VSL radius, (0, 1]; 0: 0.7 */
     int select;                /* > 0: K VRLs drawn per camera sample from the light tree
                                   (vrl_tree.h, unbiased; rr_radius is then unused); 0: every VRL */
+    int camera_mis;            /* 1: (u, v) by MIS of the product sampler and a camera-transmittance
+                                  sampler (sampling/vrl_camera_mis.h); 0: product sampler only */
+    double transmittance_rr;   /* Russian-roulette threshold of the ratio-tracked camera cache and
+                                  connections, (0, 1]; 0.1 = the renderer's default (and this one's) */
 } vbl_vrl_settings;
 
-#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0}
+/* Defaults: the product sampler alone and the renderer's roulette threshold 0.1 (the images of
+ * before); camera_mis = 1 with transmittance_rr = 0.01 is the opt-in variant of issue 13's second
+ * round (measured in docs/readme/vrl.md: it does not win yet). */
+#define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0, 0, 0.1}
+
+struct vbl_step_pdf;
+struct vbl_transmittance_cache;
+/* The camera ray's media overlap [u0, u1] (first t_max units) and its cached transmittance as the
+ * store's settings build it (vbl_camera_segment_cache_to with transmittance_rr). 0: misses. */
+int vbl_vrl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, vbl_vec3 origin,
+                         vbl_vec3 direction, double t_max, vbl_rng* rng, struct vbl_transmittance_cache* cache,
+                         double* u0, double* u1);
+
+/* The camera ray's cached transmittance on [u0, u1] as a step density (the u density of the
+ * camera technique, vrl_camera_mis.h). Returns 0 if it has no usable mass. */
+int vbl_vrl_camera_step_pdf(const struct vbl_transmittance_cache* cache, double u0, double u1,
+                            struct vbl_step_pdf* out);
 
 /* Light-tree selection: distance floor as a fraction of the media's bounding radius, and the
  * camera transmittance below which the camera segment is not used for the importance. */
@@ -99,6 +125,20 @@ double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tr
 int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, double* contribution, double* visible,
                           double* pdf);
+
+/* Diagnostics (bench/bench_vrl_tail.c): the factors of one pair-sampler draw of eq 7 for VRL
+ * `vrl` of the store (whole VRL) and the camera segment [u0, u1] with its cache: the estimate is
+ * f Tc Tl Tw / (w2 pdf) with f = sum RGB of the two scattering kernels times the power;
+ * phase_geometry = the sampler's target (vrl_pair.h); tw_march / tc_march: ray-marched
+ * (near-exact) transmittances of the connection and of the camera ray to u. Returns 0 when the
+ * draw failed (no support). */
+typedef struct vbl_vrl_factors {
+    double pdf, w2, phase_geometry, tc, tl, tw, tw_march, tc_march, sigma_u, sigma_v, f, power;
+} vbl_vrl_factors;
+struct vbl_transmittance_cache;
+int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, size_t vrl,
+                           vbl_vec3 o, vbl_vec3 d, double u0, double u1, const struct vbl_transmittance_cache* cache,
+                           vbl_rng* rng, vbl_vrl_factors* out);
 
 /* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);

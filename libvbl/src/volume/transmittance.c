@@ -9,7 +9,9 @@
  *  - ray marching (biased): T = exp(-sum sigma_t(t_k) dt), jittered regular steps.
  * Segments whose rate is 0 cost no lookup. Ratio estimators apply Russian roulette once the weight
  * falls below VBL_RR_THRESHOLD (survive with probability w / threshold, weight := threshold):
- * unbiased, and it bounds the work in dense media.
+ * unbiased, and it bounds the work in dense media; vbl_tracking_settings.rr_threshold lowers it
+ * (an estimate of T below the threshold is 0 or >= threshold, relative variance ~ threshold / T:
+ * the virtual-light estimators, whose camera and connection transmittances multiply, ask for less).
  *
  * Homogeneous segments (majorant == minorant > 0: every trilinear sample in the block, neighbour
  * shell included, is the same value sigma, e.g. the inside of a constant-density box) use the
@@ -44,7 +46,11 @@ typedef struct vbl_tracker {
     double mu_scale; /* > 1: tentative collisions at this multiple of the majorant (estimates only) */
     vbl_tracking_visit visit; /* free flight only, may be NULL: called at every tentative point */
     void* visit_user;
+    double rr;    /* Russian-roulette threshold of the ratio estimators */
 } vbl_tracker;
+
+/* The roulette threshold of a settings value (0: VBL_RR_THRESHOLD). */
+static inline double vbl_rr_of(double rr) { return rr > 0.0 && rr <= 1.0 ? rr : VBL_RR_THRESHOLD; }
 
 /* A segment of constant, known extinction (see above). */
 static inline int vbl_segment_homogeneous(const vbl_majorant_segment* seg)
@@ -59,13 +65,13 @@ static int vbl_tracker_roulette(vbl_tracker* tr)
         tr->weight = 0.0;
         return VBL_TRACK_STOP;
     }
-    if (tr->kind != VBL_TRANSMITTANCE_DELTA_TRACKING && tr->weight < VBL_RR_THRESHOLD) {
-        double survive = tr->weight / VBL_RR_THRESHOLD;
+    if (tr->kind != VBL_TRANSMITTANCE_DELTA_TRACKING && tr->weight < tr->rr) {
+        double survive = tr->weight / tr->rr;
         if (vbl_rng_uniform(tr->rng) >= survive) {
             tr->weight = 0.0;
             return VBL_TRACK_STOP;
         }
-        tr->weight = VBL_RR_THRESHOLD;
+        tr->weight = tr->rr;
     }
     return VBL_TRACK_CONTINUE;
 }
@@ -88,13 +94,13 @@ static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double 
         tr->weight = 0.0;
         return VBL_TRACK_STOP;
     }
-    if (tr->weight < VBL_RR_THRESHOLD) {
-        double survive = tr->weight / VBL_RR_THRESHOLD;
+    if (tr->weight < tr->rr) {
+        double survive = tr->weight / tr->rr;
         if (vbl_rng_uniform(tr->rng) >= survive) {
             tr->weight = 0.0;
             return VBL_TRACK_STOP;
         }
-        tr->weight = VBL_RR_THRESHOLD;
+        tr->weight = tr->rr;
     }
     return VBL_TRACK_CONTINUE;
 }
@@ -232,15 +238,16 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_CACHED_DELTA:
     case VBL_TRANSMITTANCE_CACHED_RATIO: {
         vbl_transmittance_cache cache;
-        vbl_transmittance_cache_build(&cache, settings->estimator, ext, cursor, origin, direction, t0, t1, 0,
-                                      settings->use_global_majorant, rng);
+        vbl_transmittance_cache_build_rr(&cache, settings->estimator, ext, cursor, origin, direction, t0, t1, 0,
+                                         settings->use_global_majorant, settings->rr_threshold, rng);
         return vbl_transmittance_cache_eval(&cache, t1);
     }
     case VBL_TRANSMITTANCE_DELTA_TRACKING:
     case VBL_TRANSMITTANCE_RATIO_TRACKING:
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
-        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL};
+        vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL,
+                          vbl_rr_of(settings->rr_threshold)};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -254,7 +261,7 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL, VBL_RR_THRESHOLD};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -269,7 +276,7 @@ int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_curso
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -280,12 +287,12 @@ int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_curso
 /* Internal (transmittance_cache.c): one ratio-tracking pass that reports every tentative point;
  * the ray must have a unit direction (vbl_unit_ray). */
 int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
-                           vbl_vec3 direction, double t0, double t1, int use_global, vbl_rng* rng,
+                           vbl_vec3 direction, double t0, double t1, int use_global, double rr_threshold, vbl_rng* rng,
                            void (*record)(void* user, double t, double weight), void* user, int max_records)
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold)};
     int records = 0;
     double t_last = t0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

@@ -16,6 +16,7 @@ typedef struct vbl_tracking_settings {
      * constant sigma over length L: relative variance exp(sigma^2 L / mu) - 1). <= 1 (0 in older
      * initializers): the tight majorant. Free-flight sampling and the caches ignore it. */
     double majorant_scale;
+    double rr_threshold;      /* ratio estimators' Russian-roulette threshold, (0, 1]; 0: 0.1 */
 } vbl_tracking_settings;
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached

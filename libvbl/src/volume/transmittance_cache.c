@@ -12,7 +12,7 @@
 #include <stdlib.h>
 
 int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
-                           vbl_vec3 direction, double t0, double t1, int use_global, vbl_rng* rng,
+                           vbl_vec3 direction, double t0, double t1, int use_global, double rr_threshold, vbl_rng* rng,
                            void (*record)(void* user, double t, double weight), void* user, int max_records);
 
 int vbl_unit_ray(vbl_vec3* direction, double* t0, double* t1, double* len);
@@ -37,6 +37,15 @@ void vbl_transmittance_cache_build(vbl_transmittance_cache* cache, vbl_transmitt
                                    vbl_vec3 direction, double t0, double t1, int entries, int use_global_majorant,
                                    vbl_rng* rng)
 {
+    vbl_transmittance_cache_build_rr(cache, kind, ext, cursor, origin, direction, t0, t1, entries, use_global_majorant,
+                                     0.0, rng);
+}
+
+void vbl_transmittance_cache_build_rr(vbl_transmittance_cache* cache, vbl_transmittance_estimator kind,
+                                      const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                      vbl_vec3 direction, double t0, double t1, int entries, int use_global_majorant,
+                                      double rr_threshold, vbl_rng* rng)
+{
     cache->kind = kind;
     cache->t0 = t0;
     cache->t1 = t1 > t0 ? t1 : t0;
@@ -57,7 +66,7 @@ void vbl_transmittance_cache_build(vbl_transmittance_cache* cache, vbl_transmitt
         return;
     }
     /* CACHED_RATIO: the last slot is kept for the delta-tracking tail. */
-    vbl_ratio_track_record(ext, cursor, origin, direction, t0, t1, use_global_majorant, rng, vbl_cache_record, cache,
+    vbl_ratio_track_record(ext, cursor, origin, direction, t0, t1, use_global_majorant, rr_threshold, rng, vbl_cache_record, cache,
                            VBL_TRANSMITTANCE_CACHE_MAX - 1);
     for (int i = 0; i < cache->count; ++i) cache->t[i] /= len; /* back to the caller's t */
 }

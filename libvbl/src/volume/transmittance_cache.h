@@ -26,6 +26,14 @@ void vbl_transmittance_cache_build(vbl_transmittance_cache* cache, vbl_transmitt
                                    vbl_vec3 origin, vbl_vec3 direction, double t0, double t1,
                                    int entries, int use_global_majorant, vbl_rng* rng);
 
+/* The same with the ratio-tracking Russian-roulette threshold (0: the default 0.1,
+ * volume/transmittance.c); a lower one gives a less noisy cache deep in dense media, at the cost
+ * of more lookups. */
+void vbl_transmittance_cache_build_rr(vbl_transmittance_cache* cache, vbl_transmittance_estimator kind,
+                                      const vbl_extinction* ext, vbl_extinction_cursor* cursor,
+                                      vbl_vec3 origin, vbl_vec3 direction, double t0, double t1,
+                                      int entries, int use_global_majorant, double rr_threshold, vbl_rng* rng);
+
 /* Unbiased estimate of T(t0, t) for t in [t0, t1] (t is clamped into it). */
 double vbl_transmittance_cache_eval(const vbl_transmittance_cache* cache, double t);
 
