@@ -176,7 +176,7 @@ typedef enum vbl_render_option_effect {
       "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")         \
     X(vrl_select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,                          \
       "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)")\
-    X(pt_equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 1, 0, 1, 0, NULL, HASH,              \
+    X(pt_equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL, HASH,              \
       "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")        \
     X(transmittance_majorant_scale, double, DOUBLE, "transmittance_majorant_scale",                          \
       "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,                                       \
