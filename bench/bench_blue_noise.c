@@ -71,16 +71,6 @@
 #include "bench_reference.h"
 #include "vbl/vbl.h"
 
-#ifndef VBL_BENCH_DEFAULT_VDB
-#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
-#endif
-#ifndef VBL_BENCH_SOURCE_DIR
-#define VBL_BENCH_SOURCE_DIR "."
-#endif
-#ifndef VBL_BENCH_CACHE_DIR
-#define VBL_BENCH_CACHE_DIR "."
-#endif
-
 /* ---- scenes and configurations ------------------------------------------------------------ */
 
 #define MAX_BN 4 /* blue-noise light counts at equal time */

@@ -65,16 +65,6 @@
 #include "bench_reference.h"
 #include "vbl/vbl.h"
 
-#ifndef VBL_BENCH_DEFAULT_VDB
-#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
-#endif
-#ifndef VBL_BENCH_SOURCE_DIR
-#define VBL_BENCH_SOURCE_DIR "."
-#endif
-#ifndef VBL_BENCH_CACHE_DIR
-#define VBL_BENCH_CACHE_DIR "."
-#endif
-
 /* random streams of the camera-driven lights: (seed ^ domain, pass, index) */
 #define DOMAIN_CAMERA_PATHS 0x424E4D43414D5031ull
 #define DOMAIN_SPLIT_PATHS 0x424E4D53504C5432ull

@@ -37,16 +37,6 @@
 #include "scene/scene.h"
 #include "vbl/vbl.h"
 
-#ifndef VBL_BENCH_DEFAULT_VDB
-#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
-#endif
-#ifndef VBL_BENCH_SOURCE_DIR
-#define VBL_BENCH_SOURCE_DIR "."
-#endif
-#ifndef VBL_BENCH_CACHE_DIR
-#define VBL_BENCH_CACHE_DIR "."
-#endif
-
 #define VBL_BENCH_SEL_LIGHT_PATHS 1000
 #define VBL_BENCH_SEL_K 4
 

@@ -21,16 +21,6 @@
 #include "bench_reference.h"
 #include "vbl/vbl.h"
 
-#ifndef VBL_BENCH_DEFAULT_VDB
-#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
-#endif
-#ifndef VBL_BENCH_SOURCE_DIR
-#define VBL_BENCH_SOURCE_DIR "."
-#endif
-#ifndef VBL_BENCH_CACHE_DIR
-#define VBL_BENCH_CACHE_DIR "."
-#endif
-
 typedef struct bench_config {
     const char* name;
     int equiangular;                    /* options.pt_equiangular (0/1) */

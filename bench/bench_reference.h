@@ -9,6 +9,18 @@
 
 #include "vbl/vbl.h"
 
+/* Paths the bench *.cmake files pass as compile definitions; these defaults (relative to the
+ * source tree) serve a build that does not. */
+#ifndef VBL_BENCH_DEFAULT_VDB
+#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
+#endif
+#ifndef VBL_BENCH_SOURCE_DIR
+#define VBL_BENCH_SOURCE_DIR "."
+#endif
+#ifndef VBL_BENCH_CACHE_DIR
+#define VBL_BENCH_CACHE_DIR "."
+#endif
+
 /* beauty, the 7 transport classes in EXR order, "medium" (beauty - emission) */
 #define BENCH_LAYERS 9
 #define BENCH_LAYER_MEDIUM 8

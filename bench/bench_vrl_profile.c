@@ -36,13 +36,6 @@
 #include "transport/vrl.h"
 #include "vbl/vbl.h"
 
-#ifndef VBL_BENCH_DEFAULT_VDB
-#define VBL_BENCH_DEFAULT_VDB "build/samples/cloud.vdb"
-#endif
-#ifndef VBL_BENCH_SOURCE_DIR
-#define VBL_BENCH_SOURCE_DIR "."
-#endif
-
 static int cmp_desc(const void* a, const void* b)
 {
     double x = *(const double*)a, y = *(const double*)b;

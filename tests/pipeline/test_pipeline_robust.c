@@ -22,58 +22,16 @@
 #include <unistd.h>
 
 #include "cli_test_util.h"
-#include "vbl_exr.h"
+#include "pipeline_test_util.h"
 
-#define W 16
-#define H 12
-
-static char* dir;
-static char scene[2048];
-
-static int setup(void** state)
-{
-    (void)state;
-    dir = ct_make_dir();
-    snprintf(scene, sizeof scene, "%s/scene.json", dir);
-    ct_write_scene(scene, W, H, NULL);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    char cmd[4200];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    int rc = system(cmd);
-    free(dir);
-    return rc == 0 ? 0 : -1;
-}
-
-static void sleep_ms(int ms)
-{
-    struct timespec t = {ms / 1000, (long)(ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
-static vbl_exr_image* read_exr(const char* path)
-{
-    vbl_exr_image* image = NULL;
-    if (vbl_exr_read(path, &image)) fail_msg("cannot read %s: %s", path, vbl_last_error_message());
-    return image;
-}
-
-static const char* attr(const vbl_exr_image* image, const char* name)
-{
-    const char* v = vbl_exr_image_attribute(image, name, NULL);
-    if (!v) fail_msg("no attribute %s", name);
-    return v;
-}
+#define W PT_W
+#define H PT_H
 
 /* The file is a complete render of its vbl:passes: samples.Y = passes x spp everywhere. */
 static int assert_complete_passes(const char* path, int spp)
 {
-    vbl_exr_image* image = read_exr(path);
-    int passes = atoi(attr(image, "vbl:passes"));
+    vbl_exr_image* image = pt_read_exr(path);
+    int passes = atoi(pt_attr(image, "vbl:passes"));
     int c = vbl_exr_image_find_channel(image, "samples.Y");
     assert_true(c >= 0);
     const float* samples = vbl_exr_image_channel_pixels(image, c);
@@ -93,7 +51,7 @@ static pid_t start_render(const char* out, const char* log, const char* const* e
         if (fd < 0) _exit(127);
         dup2(fd, 1);
         dup2(fd, 2);
-        const char* argv[32] = {"vbl", "render", scene, "-o", out, "--progress", "json", "--aov", "samples",
+        const char* argv[32] = {"vbl", "render", pt_scene, "-o", out, "--progress", "json", "--aov", "samples",
                                 "--threads", "1"};
         int n = 11;
         for (int i = 0; extra && extra[i] && n < 31; ++i) argv[n++] = extra[i];
@@ -127,7 +85,7 @@ static void wait_for(pid_t pid, const char* log, const char* needle, int count)
             waitpid(pid, NULL, 0);
             fail_msg("no '%s' after 120 s", needle);
         }
-        sleep_ms(2);
+        pt_sleep_ms(2);
     }
 }
 
@@ -142,7 +100,7 @@ static int wait_exit(pid_t pid)
             waitpid(pid, NULL, 0);
             fail_msg("vbl render did not stop within 120 s of the signal");
         }
-        sleep_ms(2);
+        pt_sleep_ms(2);
     }
 }
 
@@ -150,8 +108,8 @@ static int wait_exit(pid_t pid)
 static void test_sigint_mid_pass(void** state)
 {
     (void)state;
-    const char* out = ct_path(dir, "sigint.exr");
-    const char* log = ct_path(dir, "sigint.log");
+    const char* out = ct_path(pt_dir, "sigint.exr");
+    const char* log = ct_path(pt_dir, "sigint.log");
     /* passes of many samples: the signal lands inside one (a pass of 400 spp takes ~10x the
      * polling interval even on a fast machine) */
     static const char* const extra[] = {"--passes", "1000", "--spp", "400", NULL};
@@ -165,8 +123,8 @@ static void test_sigint_mid_pass(void** state)
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 5);
     int passes = assert_complete_passes(out_copy, 400);
-    vbl_exr_image* image = read_exr(out_copy);
-    assert_string_equal(attr(image, "vbl:status"), "interrupted");
+    vbl_exr_image* image = pt_read_exr(out_copy);
+    assert_string_equal(pt_attr(image, "vbl:status"), "interrupted");
     vbl_exr_image_release(image);
     print_message("SIGINT: %d complete passes written\n", passes);
     assert_true(passes >= 2 && passes < 1000);
@@ -181,9 +139,9 @@ static void test_second_sigint_aborts(void** state)
 {
     (void)state;
     char out[4096], log[4096], one_pixel[1024], text[4096];
-    snprintf(out, sizeof out, "%s", ct_path(dir, "twice.exr"));
-    snprintf(log, sizeof log, "%s", ct_path(dir, "twice.log"));
-    snprintf(one_pixel, sizeof one_pixel, "%s", ct_path(dir, "one_pixel.json"));
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "twice.exr"));
+    snprintf(log, sizeof log, "%s", ct_path(pt_dir, "twice.log"));
+    snprintf(one_pixel, sizeof one_pixel, "%s", ct_path(pt_dir, "one_pixel.json"));
     snprintf(text, sizeof text,
              "{\"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 2,"
              " \"resolution\": [1, 1]},"
@@ -193,14 +151,14 @@ static void test_second_sigint_aborts(void** state)
     ct_write_file(one_pixel, text);
     static const char* const extra[] = {"--passes", "2", "--spp", "1000000", NULL};
     char saved[2048];
-    snprintf(saved, sizeof saved, "%s", scene);
-    snprintf(scene, sizeof scene, "%s", one_pixel);
+    snprintf(saved, sizeof saved, "%s", pt_scene);
+    snprintf(pt_scene, sizeof pt_scene, "%s", one_pixel);
     pid_t pid = start_render(out, log, extra);
-    snprintf(scene, sizeof scene, "%s", saved);
+    snprintf(pt_scene, sizeof pt_scene, "%s", saved);
     wait_for(pid, log, "\"event\":\"start\"", 1);
-    sleep_ms(200);
+    pt_sleep_ms(200);
     kill(pid, SIGINT);
-    sleep_ms(200);
+    pt_sleep_ms(200);
     kill(pid, SIGINT);
     int status = wait_exit(pid);
     assert_true(WIFEXITED(status));
@@ -215,8 +173,8 @@ static void test_failed_checkpoint_continues(void** state)
 {
     (void)state;
     char out[4096], log[4096];
-    snprintf(out, sizeof out, "%s", ct_path(dir, "blocked.exr"));
-    snprintf(log, sizeof log, "%s", ct_path(dir, "blocked.log"));
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "blocked.exr"));
+    snprintf(log, sizeof log, "%s", ct_path(pt_dir, "blocked.log"));
     static const char* const extra[] = {"--passes", "6", "--spp", "200", "--checkpoint-passes", "1", NULL};
     pid_t pid = start_render(out, log, extra);
     wait_for(pid, log, "\"event\":\"checkpoint\"", 1);
@@ -284,47 +242,38 @@ static void rename_attr(const char* from, const char* to, const char* name, cons
     free(data);
 }
 
-static void run_expect(const char* args, int code, const char* needle)
-{
-    char* log = NULL;
-    int got = ct_vbl_run(args, &log, 1);
-    if (got != code || (needle && (!log || !strstr(log, needle))))
-        fail_msg("vbl %s -> exit %d (want %d, '%s')\n%s", args, got, code, needle ? needle : "", log ? log : "");
-    free(log);
-}
-
 static void test_merge_verifies_pass_counts(void** state)
 {
     (void)state;
     char a[4096], b[4096], t[4096], u[4096], out[4096], args[20000];
-    snprintf(a, sizeof a, "%s", ct_path(dir, "a.exr"));
-    snprintf(b, sizeof b, "%s", ct_path(dir, "b.exr"));
-    snprintf(t, sizeof t, "%s", ct_path(dir, "t.exr"));
-    snprintf(u, sizeof u, "%s", ct_path(dir, "u.exr"));
-    snprintf(out, sizeof out, "%s", ct_path(dir, "merged.exr"));
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-3 --spp 2 --aov samples", scene, a);
-    run_expect(args, 0, NULL);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --spp 2 --aov samples", scene, b);
-    run_expect(args, 0, NULL);
+    snprintf(a, sizeof a, "%s", ct_path(pt_dir, "a.exr"));
+    snprintf(b, sizeof b, "%s", ct_path(pt_dir, "b.exr"));
+    snprintf(t, sizeof t, "%s", ct_path(pt_dir, "t.exr"));
+    snprintf(u, sizeof u, "%s", ct_path(pt_dir, "u.exr"));
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "merged.exr"));
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-3 --spp 2 --aov samples", pt_scene, a);
+    pt_run_expect(args, 0, NULL);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --spp 2 --aov samples", pt_scene, b);
+    pt_run_expect(args, 0, NULL);
     snprintf(args, sizeof args, "merge -q '%s' '%s' '%s'", out, a, b);
-    run_expect(args, 0, NULL);
+    pt_run_expect(args, 0, NULL);
     /* a part claiming 200 passes: its pass range says 4 */
     patch_int(a, t, "vbl:passes", 200);
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, t, b);
-    run_expect(args, 3, "vbl:passes = 200 and vbl:first_pass = 0 do not fit its vbl:pass_range 0-3");
+    pt_run_expect(args, 3, "vbl:passes = 200 and vbl:first_pass = 0 do not fit its vbl:pass_range 0-3");
     /* the same without the pass range: its samples say 4 */
     rename_attr(t, u, "vbl:pass_range", "vbl:pass_rangX");
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, u, b);
-    run_expect(args, 3, "samples.Y is 8 at pixel 0");
+    pt_run_expect(args, 3, "samples.Y is 8 at pixel 0");
     /* 2147483647 passes on two parts (no range, no samples to check): 64-bit sums, refused */
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-3 --spp 2", scene, a);
-    run_expect(args, 0, NULL);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-3 --spp 2", pt_scene, a);
+    pt_run_expect(args, 0, NULL);
     rename_attr(a, t, "vbl:pass_range", "vbl:pass_rangX");
     patch_int(t, u, "vbl:passes", 2147483647);
     patch_int(t, t, "vbl:passes", 2147483647);
     patch_int(t, t, "vbl:first_pass", 2147483647);
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, u, t);
-    run_expect(args, 3, "beyond the 2147483647");
+    pt_run_expect(args, 3, "beyond the 2147483647");
     remove(t);
     remove(u);
     remove(out);
@@ -336,20 +285,20 @@ static void test_merge_tolerates_dropped_color_space(void** state)
 {
     (void)state;
     char a[4096], b[4096], t[4096], out[4096], args[20000];
-    snprintf(a, sizeof a, "%s", ct_path(dir, "ca.exr"));
-    snprintf(b, sizeof b, "%s", ct_path(dir, "cb.exr"));
-    snprintf(t, sizeof t, "%s", ct_path(dir, "ct.exr"));
-    snprintf(out, sizeof out, "%s", ct_path(dir, "cmerged.exr"));
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-1 --spp 2", scene, a);
-    run_expect(args, 0, NULL);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 2-3 --spp 2", scene, b);
-    run_expect(args, 0, NULL);
+    snprintf(a, sizeof a, "%s", ct_path(pt_dir, "ca.exr"));
+    snprintf(b, sizeof b, "%s", ct_path(pt_dir, "cb.exr"));
+    snprintf(t, sizeof t, "%s", ct_path(pt_dir, "ct.exr"));
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "cmerged.exr"));
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 0-1 --spp 2", pt_scene, a);
+    pt_run_expect(args, 0, NULL);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 2-3 --spp 2", pt_scene, b);
+    pt_run_expect(args, 0, NULL);
     rename_attr(a, t, "oiio:ColorSpace", "oiio:ColorSpacX"); /* as if dropped */
     snprintf(args, sizeof args, "merge -q '%s' '%s' '%s'", out, t, b);
-    run_expect(args, 0, NULL);
-    vbl_exr_image* m = read_exr(out);
-    vbl_exr_image* part = read_exr(b);
-    assert_string_equal(attr(m, "oiio:ColorSpace"), attr(part, "oiio:ColorSpace"));
+    pt_run_expect(args, 0, NULL);
+    vbl_exr_image* m = pt_read_exr(out);
+    vbl_exr_image* part = pt_read_exr(b);
+    assert_string_equal(pt_attr(m, "oiio:ColorSpace"), pt_attr(part, "oiio:ColorSpace"));
     vbl_exr_image_release(part);
     vbl_exr_image_release(m);
     if (access("/usr/bin/oiiotool", X_OK) == 0) {
@@ -376,5 +325,5 @@ int main(void)
         cmocka_unit_test(test_merge_verifies_pass_counts),
         cmocka_unit_test(test_merge_tolerates_dropped_color_space),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, pt_setup, pt_teardown);
 }

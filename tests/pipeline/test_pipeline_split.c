@@ -20,61 +20,14 @@
 #include <unistd.h>
 
 #include "cli_test_util.h"
-#include "vbl_exr.h"
+#include "pipeline_test_util.h"
 
-#define W 16
-#define H 12
-
-static char* dir;
-static char scene[2048];
-
-static int setup(void** state)
-{
-    (void)state;
-    dir = ct_make_dir();
-    snprintf(scene, sizeof scene, "%s/scene.json", dir);
-    ct_write_scene(scene, W, H, NULL);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    ct_remove_dir(dir);
-    free(dir);
-    return 0;
-}
+#define W PT_W
+#define H PT_H
 
 static void run_ok(const char* args)
 {
-    char* log = NULL;
-    int code = ct_vbl_run(args, &log, 1);
-    if (code) fail_msg("vbl %s -> exit %d\n%s", args, code, log ? log : "");
-    free(log);
-}
-
-/* Runs `vbl ARGS`, expecting exit `code` and `needle` in its output. */
-static void run_fails(const char* args, int code, const char* needle)
-{
-    char* log = NULL;
-    int got = ct_vbl_run(args, &log, 1);
-    if (got != code || !log || !strstr(log, needle))
-        fail_msg("vbl %s: exit %d (want %d), output:\n%s(want '%s')", args, got, code, log ? log : "", needle);
-    free(log);
-}
-
-static vbl_exr_image* read_exr(const char* path)
-{
-    vbl_exr_image* img = NULL;
-    if (vbl_exr_read(path, &img)) fail_msg("%s: %s", path, vbl_last_error_message());
-    return img;
-}
-
-static const char* attr(const vbl_exr_image* img, const char* name)
-{
-    const char* v = vbl_exr_image_attribute(img, name, NULL);
-    if (!v) fail_msg("no attribute %s", name);
-    return v;
+    pt_run_expect(args, 0, NULL);
 }
 
 /* Every channel of `a` against the reference `b`: the same channel set; relative error below
@@ -83,8 +36,8 @@ static const char* attr(const vbl_exr_image* img, const char* name)
  * layers of `a` sum to its beauty exactly. Returns the largest relative error seen. */
 static double compare_images(const char* path_a, const char* path_b, double tolerance)
 {
-    vbl_exr_image* a = read_exr(path_a);
-    vbl_exr_image* b = read_exr(path_b);
+    vbl_exr_image* a = pt_read_exr(path_a);
+    vbl_exr_image* b = pt_read_exr(path_b);
     assert_int_equal(vbl_exr_image_width(a), vbl_exr_image_width(b));
     assert_int_equal(vbl_exr_image_height(a), vbl_exr_image_height(b));
     assert_int_equal(vbl_exr_image_channel_count(a), vbl_exr_image_channel_count(b));
@@ -135,28 +88,28 @@ static double compare_images(const char* path_a, const char* path_b, double tole
 static void split_and_merge(const char* method_args)
 {
     char args[8192];
-    const char* single = ct_path(dir, "single.exr");
-    const char* p0 = ct_path(dir, "p0.exr");
-    const char* p1 = ct_path(dir, "p1.exr");
-    const char* merged = ct_path(dir, "merged.exr");
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 8 --aov all %s", scene, single, method_args);
+    const char* single = ct_path(pt_dir, "single.exr");
+    const char* p0 = ct_path(pt_dir, "p0.exr");
+    const char* p1 = ct_path(pt_dir, "p1.exr");
+    const char* merged = ct_path(pt_dir, "merged.exr");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 8 --aov all %s", pt_scene, single, method_args);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 8 --pass-range 0-3 --aov all %s", scene, p0,
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 8 --pass-range 0-3 --aov all %s", pt_scene, p0,
              method_args);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --aov all %s", scene, p1, method_args);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --aov all %s", pt_scene, p1, method_args);
     run_ok(args);
-    vbl_exr_image* part = read_exr(p1);
-    assert_string_equal(attr(part, "vbl:first_pass"), "4");
-    assert_string_equal(attr(part, "vbl:passes"), "4");
-    assert_string_equal(attr(part, "vbl:pass_range"), "4-7");
+    vbl_exr_image* part = pt_read_exr(p1);
+    assert_string_equal(pt_attr(part, "vbl:first_pass"), "4");
+    assert_string_equal(pt_attr(part, "vbl:passes"), "4");
+    assert_string_equal(pt_attr(part, "vbl:pass_range"), "4-7");
     vbl_exr_image_release(part);
     snprintf(args, sizeof args, "merge -q '%s' '%s' '%s'", merged, p1, p0); /* any order */
     run_ok(args);
-    vbl_exr_image* m = read_exr(merged);
-    assert_string_equal(attr(m, "vbl:passes"), "8");
-    assert_string_equal(attr(m, "vbl:first_pass"), "0");
-    assert_string_equal(attr(m, "vbl:status"), "complete");
+    vbl_exr_image* m = pt_read_exr(merged);
+    assert_string_equal(pt_attr(m, "vbl:passes"), "8");
+    assert_string_equal(pt_attr(m, "vbl:first_pass"), "0");
+    assert_string_equal(pt_attr(m, "vbl:status"), "complete");
     vbl_exr_image_release(m);
     double worst = compare_images(merged, single, 1e-5);
     print_message("merge %s: max relative error %.3g against the single render\n", method_args, worst);
@@ -179,7 +132,7 @@ static void test_merge_refusals(void** state)
 {
     (void)state;
     char args[8192], out[2048];
-    snprintf(out, sizeof out, "%s", ct_path(dir, "out.exr")); /* ct_path's buffers rotate */
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "out.exr")); /* ct_path's buffers rotate */
     static const char* const parts[][2] = {{"a.exr", "--pass-range 0-3"},
                                            {"b.exr", "--pass-range 2-5"},
                                            {"c.exr", "--pass-range 6-7"},
@@ -187,49 +140,49 @@ static void test_merge_refusals(void** state)
                                            {"e.exr", "--pass-range 4-5 --aov samples"},
                                            {"f.exr", "--pass-range 4-5 --method vpl"}};
     for (size_t i = 0; i < sizeof parts / sizeof parts[0]; ++i) {
-        snprintf(args, sizeof args, "render '%s' -o '%s' -q %s", scene, ct_path(dir, parts[i][0]), parts[i][1]);
+        snprintf(args, sizeof args, "render '%s' -o '%s' -q %s", pt_scene, ct_path(pt_dir, parts[i][0]), parts[i][1]);
         run_ok(args);
     }
-#define P(i) ct_path(dir, parts[i][0])
+#define P(i) ct_path(pt_dir, parts[i][0])
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), P(1));
-    run_fails(args, 3, "overlaps");
+    pt_run_expect(args, 3, "overlaps");
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), P(2));
-    run_fails(args, 3, "passes 4-5 are missing");
+    pt_run_expect(args, 3, "passes 4-5 are missing");
     snprintf(args, sizeof args, "merge '%s' '%s'", out, P(2));
-    run_fails(args, 3, "passes 0-5 are missing");
+    pt_run_expect(args, 3, "passes 0-5 are missing");
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), P(3));
-    run_fails(args, 3, "vbl:seed");
+    pt_run_expect(args, 3, "vbl:seed");
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), P(4));
-    run_fails(args, 3, "samples.Y");
+    pt_run_expect(args, 3, "samples.Y");
     snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), P(5));
-    run_fails(args, 3, "vbl:method");
-    snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), ct_path(dir, "missing.exr"));
-    run_fails(args, 3, "missing.exr");
+    pt_run_expect(args, 3, "vbl:method");
+    snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), ct_path(pt_dir, "missing.exr"));
+    pt_run_expect(args, 3, "missing.exr");
     snprintf(args, sizeof args, "merge '%s'", out);
-    run_fails(args, 2, "no input");
+    pt_run_expect(args, 2, "no input");
     assert_true(access(out, F_OK) != 0); /* nothing written by a refused merge */
     /* a different scene (other resolution: other scene hash) */
     char other[2048];
-    snprintf(other, sizeof other, "%s/other.json", dir);
+    snprintf(other, sizeof other, "%s/other.json", pt_dir);
     ct_write_scene(other, W + 1, H, NULL);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-5", other, ct_path(dir, "g.exr"));
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-5", other, ct_path(pt_dir, "g.exr"));
     run_ok(args);
-    snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), ct_path(dir, "g.exr"));
-    run_fails(args, 3, "g.exr");
+    snprintf(args, sizeof args, "merge '%s' '%s' '%s'", out, P(0), ct_path(pt_dir, "g.exr"));
+    pt_run_expect(args, 3, "g.exr");
     assert_true(access(out, F_OK) != 0);
     /* --allow-gaps: merges, marked partial */
     snprintf(args, sizeof args, "merge -q --allow-gaps '%s' '%s' '%s'", out, P(0), P(2));
     run_ok(args);
-    vbl_exr_image* m = read_exr(out);
-    assert_string_equal(attr(m, "vbl:status"), "partial");
-    assert_string_equal(attr(m, "vbl:passes"), "6");
+    vbl_exr_image* m = pt_read_exr(out);
+    assert_string_equal(pt_attr(m, "vbl:status"), "partial");
+    assert_string_equal(pt_attr(m, "vbl:passes"), "6");
     vbl_exr_image_release(m);
     /* unwritable output: exit 4 */
-    snprintf(args, sizeof args, "merge '%s/no/such/dir/out.exr' '%s'", dir, P(0));
-    run_fails(args, 4, "out.exr");
+    snprintf(args, sizeof args, "merge '%s/no/such/dir/out.exr' '%s'", pt_dir, P(0));
+    pt_run_expect(args, 4, "out.exr");
     for (size_t i = 0; i < sizeof parts / sizeof parts[0]; ++i) remove(P(i));
 #undef P
-    remove(ct_path(dir, "g.exr"));
+    remove(ct_path(pt_dir, "g.exr"));
     remove(other);
     remove(out);
 }
@@ -239,30 +192,30 @@ static void test_resume_after_time_limit(void** state)
 {
     (void)state;
     char args[8192];
-    const char* plain = ct_path(dir, "plain.exr");
-    const char* out = ct_path(dir, "resumed.exr");
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all", scene, plain);
+    const char* plain = ct_path(pt_dir, "plain.exr");
+    const char* out = ct_path(pt_dir, "resumed.exr");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all", pt_scene, plain);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --time-limit 0.000001", scene,
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --time-limit 0.000001", pt_scene,
              out);
     run_ok(args);
-    vbl_exr_image* cp = read_exr(out);
-    assert_string_equal(attr(cp, "vbl:status"), "time_limit");
-    assert_string_equal(attr(cp, "vbl:passes"), "1");
+    vbl_exr_image* cp = pt_read_exr(out);
+    assert_string_equal(pt_attr(cp, "vbl:status"), "time_limit");
+    assert_string_equal(pt_attr(cp, "vbl:passes"), "1");
     vbl_exr_image_release(cp);
     /* an incompatible resume (other seed) fails and leaves the checkpoint as it was */
     uint64_t before = ct_fnv1a64_file(out);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --seed 11 --resume", scene, out);
-    run_fails(args, 3, "vbl:seed");
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --resume", scene, out);
-    run_fails(args, 3, "samples.Y");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --seed 11 --resume", pt_scene, out);
+    pt_run_expect(args, 3, "vbl:seed");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --resume", pt_scene, out);
+    pt_run_expect(args, 3, "samples.Y");
     assert_true(ct_fnv1a64_file(out) == before);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --resume", scene, out);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --resume", pt_scene, out);
     run_ok(args);
-    vbl_exr_image* done = read_exr(out);
-    assert_string_equal(attr(done, "vbl:status"), "complete");
-    assert_string_equal(attr(done, "vbl:passes"), "6");
-    assert_string_equal(attr(done, "vbl:first_pass"), "0");
+    vbl_exr_image* done = pt_read_exr(out);
+    assert_string_equal(pt_attr(done, "vbl:status"), "complete");
+    assert_string_equal(pt_attr(done, "vbl:passes"), "6");
+    assert_string_equal(pt_attr(done, "vbl:first_pass"), "0");
     vbl_exr_image_release(done);
     double worst = compare_images(out, plain, 1e-5);
     print_message("resume after time limit: max relative error %.3g\n", worst);
@@ -273,28 +226,22 @@ static void test_resume_after_time_limit(void** state)
     remove(plain), remove(out);
 }
 
-static void sleep_ms(int ms)
-{
-    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
-    nanosleep(&ts, NULL);
-}
-
 /* SIGKILL (the checkpoint stays) or SIGTERM (the passes done are written, exit 5) after the first
  * checkpoint, then --resume: the same image as an uninterrupted render. */
 static void test_resume_after_kill(void** state)
 {
     (void)state;
-    const char* plain = ct_path(dir, "plain40.exr");
+    const char* plain = ct_path(pt_dir, "plain40.exr");
     char args[8192];
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 40 --spp 32 --threads 1", scene, plain);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 40 --spp 32 --threads 1", pt_scene, plain);
     run_ok(args);
     static const int signals[2] = {SIGKILL, SIGTERM};
     for (int k = 0; k < 2; ++k) {
-        const char* out = ct_path(dir, "killed.exr");
+        const char* out = ct_path(pt_dir, "killed.exr");
         pid_t pid = fork();
         assert_true(pid >= 0);
         if (pid == 0) {
-            execl(ct_vbl(), "vbl", "render", scene, "-o", out, "-q", "--checkpoint-passes", "1", "--passes", "40",
+            execl(ct_vbl(), "vbl", "render", pt_scene, "-o", out, "-q", "--checkpoint-passes", "1", "--passes", "40",
                   "--spp", "32", "--threads", "1", (char*)NULL);
             _exit(127);
         }
@@ -306,18 +253,18 @@ static void test_resume_after_kill(void** state)
                 waitpid(pid, NULL, 0);
                 fail_msg("no checkpoint after 60 s");
             }
-            sleep_ms(1);
+            pt_sleep_ms(1);
         }
         kill(pid, signals[k]);
         int status = 0;
         waitpid(pid, &status, 0);
         if (signals[k] == SIGTERM) assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 5);
-        vbl_exr_image* cp = read_exr(out);
-        int done = atoi(attr(cp, "vbl:passes"));
-        print_message("%s after %d passes (%s)\n", k ? "SIGTERM" : "SIGKILL", done, attr(cp, "vbl:status"));
+        vbl_exr_image* cp = pt_read_exr(out);
+        int done = atoi(pt_attr(cp, "vbl:passes"));
+        print_message("%s after %d passes (%s)\n", k ? "SIGTERM" : "SIGKILL", done, pt_attr(cp, "vbl:status"));
         assert_true(done >= 1);
         vbl_exr_image_release(cp);
-        snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 40 --spp 32 --threads 1 --resume", scene, out);
+        snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 40 --spp 32 --threads 1 --resume", pt_scene, out);
         run_ok(args);
         double worst = compare_images(out, plain, 1e-5);
         print_message("resume after %s: max relative error %.3g\n", k ? "SIGTERM" : "SIGKILL", worst);
@@ -331,15 +278,15 @@ static void test_resume_pass_range(void** state)
 {
     (void)state;
     char args[8192];
-    const char* ref = ct_path(dir, "range_ref.exr");
-    const char* out = ct_path(dir, "range.exr");
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7", scene, ref);
+    const char* ref = ct_path(pt_dir, "range_ref.exr");
+    const char* out = ct_path(pt_dir, "range.exr");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7", pt_scene, ref);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --time-limit 0.000001", scene, out);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --time-limit 0.000001", pt_scene, out);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --resume", scene, out);
-    run_fails(args, 3, "first_pass");
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --resume", scene, out);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --resume", pt_scene, out);
+    pt_run_expect(args, 3, "first_pass");
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --resume", pt_scene, out);
     run_ok(args);
     compare_images(out, ref, 1e-5);
     remove(out);
@@ -355,11 +302,11 @@ static void test_farm_scripts_without_slurm(void** state)
 {
     (void)state;
     char args[8192], out[2048], work[2048], single[2048];
-    snprintf(out, sizeof out, "%s/farm.exr", dir);
-    snprintf(work, sizeof work, "%s/farm.exr.farm", dir);
-    snprintf(single, sizeof single, "%s/farm_single.exr", dir);
+    snprintf(out, sizeof out, "%s/farm.exr", pt_dir);
+    snprintf(work, sizeof work, "%s/farm.exr.farm", pt_dir);
+    snprintf(single, sizeof single, "%s/farm_single.exr", pt_dir);
     snprintf(args, sizeof args, "farm submit '%s' -o '%s' --passes 4 --chunks 3 --partition p1 --dry-run -- --threads 1",
-             scene, out);
+             pt_scene, out);
     char* log = NULL;
     assert_int_equal(ct_vbl_run(args, &log, 0), 0);
     assert_non_null(log);
@@ -373,17 +320,17 @@ static void test_farm_scripts_without_slurm(void** state)
     }
     snprintf(args, sizeof args, "sh '%s/merge.sh' >/dev/null 2>&1", work);
     assert_int_equal(system(args), 0);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 4 --threads 1", scene, single);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 4 --threads 1", pt_scene, single);
     run_ok(args);
     compare_images(out, single, 1e-5);
     /* usage errors */
-    snprintf(args, sizeof args, "farm submit '%s' -o '%s' --passes 2 --chunks 3 --dry-run", scene, out);
-    run_fails(args, 2, "--chunks 3");
-    snprintf(args, sizeof args, "farm submit '%s' -o '%s' --passes 2 --chunks 1 --dry-run -- --pass-range 0-1", scene,
+    snprintf(args, sizeof args, "farm submit '%s' -o '%s' --passes 2 --chunks 3 --dry-run", pt_scene, out);
+    pt_run_expect(args, 2, "--chunks 3");
+    snprintf(args, sizeof args, "farm submit '%s' -o '%s' --passes 2 --chunks 1 --dry-run -- --pass-range 0-1", pt_scene,
              out);
-    run_fails(args, 2, "--pass-range");
-    snprintf(args, sizeof args, "farm submit '%s/nope.json' -o '%s' --passes 2 --chunks 1 --dry-run", dir, out);
-    run_fails(args, 3, "nope.json");
+    pt_run_expect(args, 2, "--pass-range");
+    snprintf(args, sizeof args, "farm submit '%s/nope.json' -o '%s' --passes 2 --chunks 1 --dry-run", pt_dir, out);
+    pt_run_expect(args, 3, "nope.json");
     ct_remove_dir(work);
     remove(out), remove(single);
 }
@@ -399,5 +346,5 @@ int main(void)
         cmocka_unit_test(test_resume_pass_range),
         cmocka_unit_test(test_farm_scripts_without_slurm),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, pt_setup, pt_teardown);
 }

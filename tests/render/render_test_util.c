@@ -43,6 +43,22 @@ void rt_remove_dir(const char* dir)
     rmdir(dir);
 }
 
+char rt_temp_dir[256];
+
+int rt_temp_dir_setup(void** state)
+{
+    (void)state;
+    rt_make_temp_dir(rt_temp_dir);
+    return 0;
+}
+
+int rt_temp_dir_teardown(void** state)
+{
+    (void)state;
+    rt_remove_dir(rt_temp_dir);
+    return 0;
+}
+
 static double rt_one(int i, int j, int k, void* user)
 {
     (void)i, (void)j, (void)k, (void)user;

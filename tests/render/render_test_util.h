@@ -10,6 +10,11 @@ void rt_make_temp_dir(char* out);
 void rt_write_file(const char* dir, const char* name, const char* text, char* out);
 /* Removes every regular file in `dir` and the directory (one level). */
 void rt_remove_dir(const char* dir);
+/* A cmocka group fixture around a temporary directory: rt_temp_dir_setup makes it
+ * (rt_make_temp_dir) into rt_temp_dir, rt_temp_dir_teardown removes it (rt_remove_dir). */
+extern char rt_temp_dir[256];
+int rt_temp_dir_setup(void** state);
+int rt_temp_dir_teardown(void** state);
 
 /* A constant-value box volume: n^3 active voxels of value 1, voxel size h, voxel (0,0,0) at
  * world `origin` (OpenVDB convention: trilinear density 1 on [origin, origin + (n-1) h]^3,

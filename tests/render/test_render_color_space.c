@@ -15,8 +15,6 @@
 
 #define CAMERA "\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 30, \"resolution\": [8, 6]}"
 
-static char g_dir[256];
-
 typedef struct convert_log {
     double factor;
     int calls;
@@ -38,7 +36,7 @@ static vbl_result scale_color(void* user, const char* color_space, const char* f
 
 static vbl_result load(const char* text, convert_log* log, vbl_scene** scene, char* path)
 {
-    rt_write_file(g_dir, "scene.json", text, path);
+    rt_write_file(rt_temp_dir, "scene.json", text, path);
     vbl_scene_load_options o = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
     if (log) {
         o.convert_color = scale_color;
@@ -156,7 +154,7 @@ static void test_old_options_size(void** state)
 {
     (void)state;
     char path[512];
-    rt_write_file(g_dir, "old.json", "{" CAMERA "}", path);
+    rt_write_file(rt_temp_dir, "old.json", "{" CAMERA "}", path);
     vbl_scene_load_options o = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
     o.size = offsetof(vbl_scene_load_options, convert_color);
     o.convert_color = scale_color; /* beyond the declared size: ignored */
@@ -167,20 +165,6 @@ static void test_old_options_size(void** state)
     assert_int_equal(vbl_scene_load_ex(path, &o, &scene), VBL_ERROR_INVALID_ARGUMENT);
 }
 
-static int setup(void** state)
-{
-    (void)state;
-    rt_make_temp_dir(g_dir);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    rt_remove_dir(g_dir);
-    return 0;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -188,5 +172,5 @@ int main(void)
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_old_options_size),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }

@@ -18,8 +18,6 @@
 #include "vbl/vbl.h"
 #include "volume/blackbody.h"
 
-static char g_dir[256];
-
 /* ---- blackbody ----------------------------------------------------------------------------- */
 
 /* The published CIE 1931 (x, y) chromaticities of the Planckian locus, 4 decimals (Wyszecki
@@ -268,7 +266,7 @@ static vbl_result load_medium(const char* medium_json, vbl_scene** scene)
         s = m + 4;
     }
     strncat(resolved, s, sizeof resolved - strlen(resolved) - 1);
-    rt_write_file(g_dir, "scene.json", resolved, path);
+    rt_write_file(rt_temp_dir, "scene.json", resolved, path);
     *scene = NULL;
     return vbl_scene_load(path, scene);
 }
@@ -367,7 +365,7 @@ static void test_fire_cache_end_to_end(void** state)
         return;
     }
     fclose(f);
-    rt_write_file(g_dir, "ground.obj", "v -30 -30 -3\nv 30 -30 -3\nv 30 30 -3\nv -30 30 -3\nf 1 2 3\nf 1 3 4\n", obj);
+    rt_write_file(rt_temp_dir, "ground.obj", "v -30 -30 -3\nv 30 -30 -3\nv 30 30 -3\nv -30 30 -3\nf 1 2 3\nf 1 3 4\n", obj);
     snprintf(text, sizeof text,
              "{\"camera\": {\"position\": [0, -45, 12], \"look_at\": [0, 0, 6], \"up\": [0, 0, 1], \"fov_deg\": 40, "
              "\"resolution\": [24, 18]}, "
@@ -376,7 +374,7 @@ static void test_fire_cache_end_to_end(void** state)
              "\"surfaces\": [{\"mesh\": \"ground.obj\", \"material\": {\"type\": \"lambert\", \"albedo\": 0.5}}], "
              "\"render\": {\"passes\": 1, \"spp\": 4, \"seed\": 9, \"max_bounces\": -1}}",
              vdb);
-    rt_write_file(g_dir, "fire.json", text, path);
+    rt_write_file(rt_temp_dir, "fire.json", text, path);
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_true(scene->has_emission);
@@ -417,20 +415,6 @@ static void test_fire_cache_end_to_end(void** state)
     vbl_scene_release(scene);
 }
 
-static int setup(void** state)
-{
-    (void)state;
-    rt_make_temp_dir(g_dir);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    rt_remove_dir(g_dir);
-    return 0;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -440,5 +424,5 @@ int main(void)
         cmocka_unit_test(test_role_grids),
         cmocka_unit_test(test_fire_cache_end_to_end),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }

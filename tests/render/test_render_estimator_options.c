@@ -14,12 +14,10 @@
 
 #define CAMERA "\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 30, \"resolution\": [4, 3]}"
 
-static char g_dir[256];
-
 static vbl_result load_text(const char* name, const char* text, vbl_scene** scene)
 {
     char path[512];
-    rt_write_file(g_dir, name, text, path);
+    rt_write_file(rt_temp_dir, name, text, path);
     return vbl_scene_load(path, scene);
 }
 
@@ -30,7 +28,7 @@ static void expect_error(const char* render_block, const char* suffix)
     vbl_scene* scene = NULL;
     vbl_result r = load_text("scene.json", text, &scene);
     char expected[1024];
-    snprintf(expected, sizeof expected, "%s/scene.json: %s", g_dir, suffix);
+    snprintf(expected, sizeof expected, "%s/scene.json: %s", rt_temp_dir, suffix);
     if (r != VBL_ERROR_SCENE || strcmp(vbl_last_error_message(), expected))
         fprintf(stderr, "got %s '%s'\nwant VBL_ERROR_SCENE '%s'\n", vbl_result_name(r), vbl_last_error_message(),
                 expected);
@@ -157,20 +155,6 @@ static void test_render_validates(void** state)
     vbl_scene_release(scene);
 }
 
-static int setup(void** state)
-{
-    (void)state;
-    rt_make_temp_dir(g_dir);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    rt_remove_dir(g_dir);
-    return 0;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -179,5 +163,5 @@ int main(void)
         cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_render_validates),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }

@@ -14,12 +14,10 @@
 
 #define CAMERA "\"camera\": {\"position\": [0, -5, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 30, \"resolution\": [8, 6]}"
 
-static char g_dir[256];
-
 static vbl_result load_text(const char* name, const char* text, vbl_scene** scene)
 {
     char path[512];
-    rt_write_file(g_dir, name, text, path);
+    rt_write_file(rt_temp_dir, name, text, path);
     return vbl_scene_load(path, scene);
 }
 
@@ -29,7 +27,7 @@ static void expect_error(const char* text, vbl_result code, const char* suffix)
     vbl_scene* scene = NULL;
     vbl_result r = load_text("scene.json", text, &scene);
     char expected[1024];
-    snprintf(expected, sizeof expected, "%s/scene.json: %s", g_dir, suffix);
+    snprintf(expected, sizeof expected, "%s/scene.json: %s", rt_temp_dir, suffix);
     if (r != code || strcmp(vbl_last_error_message(), expected)) {
         fprintf(stderr, "got %s '%s'\nwant %s '%s'\n", vbl_result_name(r), vbl_last_error_message(),
                 vbl_result_name(code), expected);
@@ -151,7 +149,7 @@ static void test_missing_vdb_and_relative_paths(void** state)
     char expected[1024];
     /* relative to the scene file's directory, not the working directory */
     snprintf(expected, sizeof expected, "media[0].vdb: cannot open '%s/sub/missing.vdb' (No such file or directory)",
-             g_dir);
+             rt_temp_dir);
     expect_error("{" CAMERA ", \"media\": [{\"vdb\": \"sub/missing.vdb\"}]}", VBL_ERROR_FILE_NOT_FOUND, expected);
     expect_error("{" CAMERA ", \"media\": [{\"vdb\": \"/nonexistent/x.vdb\"}]}", VBL_ERROR_FILE_NOT_FOUND,
                  "media[0].vdb: cannot open '/nonexistent/x.vdb' (No such file or directory)");
@@ -177,20 +175,6 @@ static void test_missing_vdb_and_relative_paths(void** state)
     fclose(f);
 }
 
-static int setup(void** state)
-{
-    (void)state;
-    rt_make_temp_dir(g_dir);
-    return 0;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    rt_remove_dir(g_dir);
-    return 0;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,5 +183,5 @@ int main(void)
         cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_missing_vdb_and_relative_paths),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }
