@@ -52,7 +52,7 @@ case "$mode" in
     # (label 'slow') and the documentation checks (label 'docs', no C code) run only in the
     # optimized build above.
     build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF
-    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "slow|docs"
     ;;
   *)

@@ -2,6 +2,7 @@
  * film at a time, with the rules the `vbl merge` command had on EXR channels (weighted means by
  * passes, summed samples, variance of the mean, Z weighted by passes x alpha, beauty re-summed). */
 #include <stdio.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -149,6 +150,11 @@ vbl_result vbl_film_merger_add(vbl_film_merger* m, const vbl_film* film)
     if (!m || !film) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_merger_add: NULL argument");
     if (film->stats.passes < 1)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_merge: film %d has no passes", m->count);
+    if ((long long)m->stats.passes + film->stats.passes > INT_MAX)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_film_merge: film %d: the films' passes add up beyond the 2147483647 a film holds (a "
+                         "film's pass count is wrong)",
+                         m->count);
     vbl_result r = m->count == 0 ? vbl_merger_start(m, film) : vbl_merger_check(m, film);
     if (r) {
         if (m->count == 0) vbl_merger_clear(m);
