@@ -231,6 +231,25 @@ static void vbl_vbl_estimate(const vbl_render_context* ctx, const vbl_vbl_store*
     }
 }
 
+/* One selected piece (vbl_vrl_tree_select) through vbl_vbl_estimate. */
+typedef struct vbl_vbl_piece_visit {
+    const vbl_render_context* ctx;
+    const vbl_vbl_store* s;
+    vbl_thread_state* ts;
+    vbl_vec3 o, d;
+    double u0, u1;
+    const vbl_transmittance_cache* cache;
+    vbl_rng* rng;
+    vbl_vec3* acc;
+} vbl_vbl_piece_visit;
+
+static void vbl_vbl_visit_piece(const vbl_vrl_tree_piece* pc, double weight, void* user)
+{
+    const vbl_vbl_piece_visit* v = user;
+    vbl_vbl_estimate(v->ctx, v->s, v->ts, &v->s->photons.vrls[pc->vrl], pc->v0, pc->v1, v->o, v->d, v->u0, v->u1,
+                     v->cache, weight, v->rng, v->acc);
+}
+
 void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                            const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -258,16 +277,8 @@ void vbl_vbl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
         vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
                                 vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
                                 VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
-        const double xi0 = vbl_rng_uniform(rng);
-        for (int k = 0; k < K; ++k) {
-            /* stratified over the K draws (each draw's marginal is still the tree pdf) */
-            double pdf, xi = (k + xi0) / K;
-            int j = vbl_vrl_tree_sample(&s->tree, &q, xi < 1.0 ? xi : 0x1.fffffffffffffp-1, &pdf);
-            if (j < 0 || !(pdf > 0.0)) break;
-            const vbl_vrl_tree_piece* pc = &s->tree.pieces[j];
-            vbl_vbl_estimate(ctx, s, ts, &s->photons.vrls[pc->vrl], pc->v0, pc->v1, o, d, u0, u1, &cache,
-                             1.0 / (K * pdf), rng, &acc);
-        }
+        vbl_vbl_piece_visit v = {ctx, s, ts, o, d, u0, u1, &cache, rng, &acc};
+        vbl_vrl_tree_select(&s->tree, &q, K, 1.0, rng, vbl_vbl_visit_piece, &v);
     } else {
         for (size_t j = 0; j < s->photons.vrl_count; ++j) {
             const vbl_vrl* l = &s->photons.vrls[j];

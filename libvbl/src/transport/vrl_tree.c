@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 
+#include "core/rng.h"
 #include "transport/photon_trace.h"
 #include "volume/extinction.h"
 #include "volume/transmittance_cache.h"
@@ -278,4 +279,16 @@ double vbl_vrl_tree_visible_length(const vbl_transmittance_cache* cache, double 
     for (int i = 0; i < cache->count; ++i)
         if (cache->value[i] < cut) return fmax(0.0, fmin(cache->t[i], u1) - u0);
     return fmax(0.0, u1 - u0);
+}
+
+void vbl_vrl_tree_select(const vbl_vrl_tree* tree, const vbl_vrl_tree_query* q, int K, double den, vbl_rng* rng,
+                         vbl_vrl_tree_visit_fn visit, void* user)
+{
+    const double xi0 = vbl_rng_uniform(rng);
+    for (int k = 0; k < K; ++k) {
+        double pdf, xi = (k + xi0) / K;
+        int j = vbl_vrl_tree_sample(tree, q, xi < 1.0 ? xi : 0x1.fffffffffffffp-1, &pdf);
+        if (j < 0 || !(pdf > 0.0)) break;
+        visit(&tree->pieces[j], 1.0 / (den * K * pdf), user);
+    }
 }

@@ -45,6 +45,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "core/rng.h"
 
 struct vbl_vrl;
 struct vbl_transmittance_cache;
@@ -107,6 +108,12 @@ void vbl_vrl_tree_free(vbl_vrl_tree* tree);
 /* One draw: the chosen piece's index (tree->pieces) and its selection probability (*pdf > 0),
  * or -1 for an empty tree. xi in [0, 1). */
 int vbl_vrl_tree_sample(const vbl_vrl_tree* tree, const vbl_vrl_tree_query* q, double xi, double* pdf);
+/* K stratified draws ((k + xi0) / K, one uniform xi0 from rng; each draw's marginal is still the
+ * tree pdf): visit(piece, 1 / (den K pdf), user) per draw, stopping at the first failed draw.
+ * The per-camera-sample selection of vrl and vbl (stochastic lightcuts, Yuksel 2019): unbiased. */
+typedef void (*vbl_vrl_tree_visit_fn)(const vbl_vrl_tree_piece* piece, double weight, void* user);
+void vbl_vrl_tree_select(const vbl_vrl_tree* tree, const vbl_vrl_tree_query* q, int K, double den,
+                         vbl_rng* rng, vbl_vrl_tree_visit_fn visit, void* user);
 /* Probability that vbl_vrl_tree_sample returns piece `index` (0 if it is not in the tree). */
 double vbl_vrl_tree_pdf(const vbl_vrl_tree* tree, const vbl_vrl_tree_query* q, int index);
 
