@@ -6,6 +6,7 @@
 # passes kept, is printed too) and prints the rMAE of the
 # beauty and of volume_from_volume against a long pt reference, the passes done and the energy
 # (sum of the non-emission layers' means / the reference's).
+# The reference must come from another seed than 7 (pt here runs with --seed 7).
 # usage: bench_vrl_defaults.sh VBL_BINARY T SCENE_NAME SCENE.json REF.exr [SCENE_NAME SCENE.json REF.exr ...]
 set -eu
 VBL=$1 T=$2
@@ -20,7 +21,7 @@ while [ $# -ge 3 ]; do
              "vrl --light-paths 10 --transmittance-majorant-scale 4" \
              "vbl --light-paths 3" "vbl --light-paths 10" "vbl --light-paths 30" \
              "vbl --light-paths 10 --transmittance-majorant-scale 4" \
-             "pt"; do
+             "pt --seed 7"; do
     m=${cfg%% *}
     rest=${cfg#"$m"}
     img="$OUT/img.exr"
