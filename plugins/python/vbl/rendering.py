@@ -1,0 +1,137 @@
+"""vbl.render, vbl.merge, vbl.resume. The render runs in a worker thread while the calling thread
+waits in Python, so Ctrl-C (SIGINT, delivered to the main thread) arrives at once: it sets the
+library's cancel flag (vbl_render_options.cancel through libvbl_python), the pass in progress
+stops at its next pixel and is dropped, and vbl.RenderInterrupted (a KeyboardInterrupt) is raised
+with the film of the complete passes. Without libvbl_python the render stops after the current
+pass instead (the pass callback returns "stop")."""
+
+import ctypes
+import threading
+
+from . import _native as N
+from .errors import ERROR_INTERRUPTED, RenderInterrupted, argument_error, error_for
+from .film import Film
+
+_POLL_SECONDS = 0.05
+
+
+def _progress_dict(p):
+    return {"pass": p.pass_, "passes": p.passes, "elapsed_seconds": p.elapsed_seconds,
+            "pass_seconds": p.pass_seconds, "samples_per_pixel": p.samples_per_pixel,
+            "first_pass": p.first_pass}
+
+
+def _should_stop(cancel):
+    if cancel is None:
+        return False
+    if hasattr(cancel, "is_set"):
+        return cancel.is_set()
+    return bool(cancel())
+
+
+def render(scene, callback=None, cancel=None, **overrides):
+    """Renders `scene` with its `render` block, overridden by keyword arguments named after the
+    fields of vbl_render_options (RENDER_OPTION_FIELDS: method, passes, spp, light_paths, seed,
+    threads, time_limit, max_bounces, transmittance, mis, vrl_*, vpl_clamp_distance, vbl_*, ...).
+
+    `callback(progress)` runs after every pass (a dict: pass, passes, elapsed_seconds,
+    pass_seconds, samples_per_pixel, first_pass); a true return stops the render and the film of
+    the passes done is returned (stats["cancelled"] == 1). An exception in the callback stops the
+    render and is re-raised. `cancel`: a threading.Event or a callable polled every 50 ms; once
+    true the pass in progress stops promptly and is dropped, and the film of the complete passes
+    is returned. Ctrl-C does the same and raises vbl.RenderInterrupted (a KeyboardInterrupt) with
+    `.film`. A stop before the first pass completes raises vbl.RenderInterrupted with film None."""
+    options = scene._render_options()
+    options.apply(overrides, "render()")
+    return _run(scene, options, callback, cancel, lambda out: N._render(scene.handle, options.handle, out))
+
+
+def _run(scene, options, callback, cancel, call):
+    flag = ctypes.c_int(0)
+    stop = threading.Event()  # fallback without the cancel flag: stop after the current pass
+    errors = []
+
+    def trampoline(progress, _user):
+        try:
+            if callback is not None and callback(_progress_dict(progress.contents)):
+                return 1
+        except BaseException as error:  # stop the render and re-raise after it returns
+            errors.append(error)
+            return 1
+        return 1 if stop.is_set() else 0
+
+    c_callback = N._PassCallback(trampoline)
+    N._options_set_callback(options.handle, c_callback, None)
+    if N._native is not None:
+        N._native.vbl_py_options_set_cancel(options.handle, ctypes.byref(flag))
+    handle = N._P()
+    done = {}
+
+    def work():
+        done["code"] = call(ctypes.byref(handle))
+        done["error"] = error_for(done["code"]) if done["code"] not in (0, ERROR_INTERRUPTED) else None
+
+    def request_stop():
+        flag.value = 1
+        stop.set()
+
+    worker = threading.Thread(target=work, name="vbl-render", daemon=True)
+    interrupted = None
+    try:
+        worker.start()
+        while worker.is_alive():
+            try:
+                worker.join(_POLL_SECONDS)
+                if _should_stop(cancel):
+                    request_stop()
+            except KeyboardInterrupt as error:  # Ctrl-C: stop promptly, keep the complete passes
+                interrupted = interrupted or error
+                request_stop()
+    finally:
+        if worker.is_alive():  # an exception other than Ctrl-C while waiting
+            request_stop()
+            worker.join()
+        N._options_set_callback(options.handle, N._PassCallback(), None)
+        if N._native is not None:
+            N._native.vbl_py_options_set_cancel(options.handle, None)
+    code = done.get("code")
+    film = Film(handle, scene, options, options.get("passes")) if handle else None
+    if errors:
+        raise errors[0]
+    if done.get("error") is not None:
+        raise done["error"]
+    if interrupted is not None:
+        raise RenderInterrupted("VBL_ERROR_INTERRUPTED", "render interrupted (Ctrl-C); the film holds %s"
+                                % ("%d complete passes" % film.stats["passes"] if film else "no pass"), film)
+    if code == ERROR_INTERRUPTED and film is None:
+        error = error_for(code)
+        raise error
+    return film
+
+
+def merge(films):
+    """Merges films of disjoint pass ranges of one render (render(..., first_pass=A, passes=B))
+    into the film one render of all their passes gives, to float rounding (vbl_film_merge: weighted
+    means by passes, summed samples, variance of the mean, Z weighted by passes x alpha, the beauty
+    re-summed from the transport layers). The result writes with the first film's scene and options."""
+    films = list(films)
+    if not films:
+        raise argument_error("merge(): no films")
+    handles = (N._P * len(films))(*[film.handle for film in films])
+    handle = N._P()
+    code = N._film_merge(handles, len(films), ctypes.byref(handle))
+    if code:
+        raise error_for(code)
+    first = films[0]
+    return Film(handle, first._scene, first._options, sum(f.stats["passes"] for f in films))
+
+
+def resume(scene, base, callback=None, cancel=None, **overrides):
+    """Continues the film `base` (a render of `scene` with fewer passes: a checkpoint) to the
+    passes of the scene's `render` block with `overrides` (vbl_render_resume): renders the passes it
+    lacks with the single render's seeds and merges, = one render of all passes to float rounding.
+    Ctrl-C, `callback` and `cancel` as in render()."""
+    options = scene._render_options()
+    options.apply(overrides, "resume()")
+    return _run(scene, options, callback, cancel,
+                lambda out: N._render_resume(scene.handle, options.handle, base.handle, out))
