@@ -86,7 +86,7 @@ class TestOptionsTable(unittest.TestCase):
             self.assertTrue(row["help"], row["name"])
 
     def test_defaults_set_get_round_trip(self):
-        options = vbl._Options()
+        options = vbl._options.Options()
         values = options.to_dict()
         self.assertEqual(values["method"], "pt")
         self.assertEqual(values["passes"], 16)
@@ -176,7 +176,7 @@ class TestRender(unittest.TestCase):
         scene = vbl.Scene(self.scene_path)
         film = vbl.render(scene, threads=2)
         self.assertEqual((film.width, film.height), (16, 12))
-        self.assertIn("", film.layers)
+        self.assertIn("", film.layer_names)
         beauty = film.layer("")
         self.assertEqual(beauty.dtype, numpy.float32)
         self.assertEqual(beauty.shape[:2], (12, 16))
@@ -226,8 +226,8 @@ class TestRender(unittest.TestCase):
         merged = vbl.merge(parts)
         self.assertEqual(merged.stats["passes"], 4)
         self.assertEqual(merged.stats["first_pass"], 0)
-        self.assertEqual(merged.layers, single.layers)
-        for name in single.layers:
+        self.assertEqual(merged.layer_names, single.layer_names)
+        for name in single.layer_names:
             if name in ("variance", "Z"):
                 continue
             a, b = merged.layer(name), single.layer(name)

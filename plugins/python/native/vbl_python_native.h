@@ -63,6 +63,21 @@ typedef struct vbl_py_exr_options {
  * `vbl render -o path` (docs/readme/output.md, "Metadata"), in scene_linear. */
 VBL_API vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const vbl_py_exr_options* options);
 
+/* An EXR file read whole (planar float channels, row 0 at the top) with its header attributes:
+ * the vbl_exr_image of vbl_exr.h. Attribute values as text (numbers with %d / %.17g), `type` as
+ * vbl_exr_attribute_type (-1: another EXR type, text ""). */
+typedef struct vbl_py_exr vbl_py_exr;
+VBL_API vbl_result vbl_py_exr_open(const char* path, vbl_py_exr** out);
+VBL_API void vbl_py_exr_close(vbl_py_exr* file);
+VBL_API int vbl_py_exr_width(const vbl_py_exr* file);
+VBL_API int vbl_py_exr_height(const vbl_py_exr* file);
+VBL_API int vbl_py_exr_channel_count(const vbl_py_exr* file);
+VBL_API const char* vbl_py_exr_channel_name(const vbl_py_exr* file, int index);
+VBL_API const float* vbl_py_exr_channel_pixels(const vbl_py_exr* file, int index);
+VBL_API int vbl_py_exr_attribute_count(const vbl_py_exr* file);
+VBL_API const char* vbl_py_exr_attribute_name(const vbl_py_exr* file, int index);
+VBL_API const char* vbl_py_exr_attribute(const vbl_py_exr* file, const char* name, int* type);
+
 #ifdef __cplusplus
 }
 #endif

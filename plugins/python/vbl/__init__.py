@@ -24,6 +24,7 @@ from ._native import (_FilmStats, _OptionInfo, _RenderProgress, _SceneLoadOption
 from ._options import RENDER_OPTION_FIELDS, RENDER_OPTIONS
 from .errors import (CorruptFile, FileIOError, FileNotFound, GridError, GridNotFound, InvalidArgument, OutOfMemory,
                      RenderInterrupted, SceneError, Unsupported, VblError)
+from .exr import ExrFile
 from .film import AOV_LAYERS, TRANSPORT_LAYERS, Film
 from .rendering import merge, render, resume
 from .scene import ColorConfig, Scene, default_color_config
@@ -34,7 +35,7 @@ from .errors import decode as _decode
 __all__ = ["VblError", "FileNotFound", "FileIOError", "InvalidArgument", "SceneError", "CorruptFile", "GridError",
            "GridNotFound", "OutOfMemory", "Unsupported", "RenderInterrupted",
            "version", "library_path", "native_available", "Scene", "ColorConfig", "default_color_config", "Volume",
-           "Film", "render", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TransmittanceResult",
+           "Film", "ExrFile", "render", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TransmittanceResult",
            "RENDER_OPTION_FIELDS", "RENDER_OPTIONS", "STRUCT_SIZES"]
 
 

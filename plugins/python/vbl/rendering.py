@@ -67,9 +67,15 @@ def _run(scene, options, callback, cancel, call):
     handle = N._P()
     done = {}
 
+    finished = threading.Event()  # not Thread.is_alive(): a join interrupted by Ctrl-C can make a
+    # running thread look stopped (CPython 3.11)
+
     def work():
-        done["code"] = call(ctypes.byref(handle))
-        done["error"] = error_for(done["code"]) if done["code"] not in (0, ERROR_INTERRUPTED) else None
+        try:
+            done["code"] = call(ctypes.byref(handle))
+            done["error"] = error_for(done["code"]) if done["code"] not in (0, ERROR_INTERRUPTED) else None
+        finally:
+            finished.set()
 
     def request_stop():
         flag.value = 1
@@ -79,18 +85,21 @@ def _run(scene, options, callback, cancel, call):
     interrupted = None
     try:
         worker.start()
-        while worker.is_alive():
+        while not finished.is_set():
             try:
-                worker.join(_POLL_SECONDS)
-                if _should_stop(cancel):
-                    request_stop()
+                while not finished.wait(_POLL_SECONDS):
+                    if _should_stop(cancel):
+                        request_stop()
             except KeyboardInterrupt as error:  # Ctrl-C: stop promptly, keep the complete passes
                 interrupted = interrupted or error
                 request_stop()
     finally:
-        if worker.is_alive():  # an exception other than Ctrl-C while waiting
+        while not finished.is_set():  # an exception other than Ctrl-C while waiting
             request_stop()
-            worker.join()
+            try:
+                finished.wait()
+            except KeyboardInterrupt as error:
+                interrupted = interrupted or error
         N._options_set_callback(options.handle, N._PassCallback(), None)
         if N._native is not None:
             N._native.vbl_py_options_set_cancel(options.handle, None)
