@@ -38,6 +38,7 @@ import vbl_blender  # noqa: E402
 # Cycles 3.4 ray-marches (biased by ~0.04% at step rate 1 on a cloud: reference kit README). 3% is
 # ~4 combined standard errors; a wrong unit (P/(2 pi) for a point light) is off by tens of percent.
 TOLERANCE = 0.03
+CENTROID_TOLERANCE = 0.1
 WIDTH, HEIGHT = 24, 16
 FAILURES = []
 
@@ -166,6 +167,15 @@ def main():
     ratio = vbl_mean / cycles_mean if cycles_mean > 0 else float("inf")
     check(abs(ratio - 1.0) < TOLERANCE, "mean vbl %.6g / Cycles %.6g = %.4f (tolerance %.2f)"
           % (vbl_mean, cycles_mean, ratio, TOLERANCE))
+    # where the light is: the brightness-weighted centroid (pixels); a half-voxel misplacement (0.05
+    # world units, ~0.3 px here) moves it by more than CENTROID_TOLERANCE
+    def centroid(rgb):
+        weight = rgb.mean(axis=-1)
+        rows, cols = numpy.mgrid[0:weight.shape[0], 0:weight.shape[1]]
+        return float((weight * cols).sum() / weight.sum()), float((weight * rows).sum() / weight.sum())
+    (vx, vy), (cx, cy) = centroid(a.layer("")[..., :3]), centroid(c.layer("")[..., :3])
+    check(math.hypot(vx - cx, vy - cy) < CENTROID_TOLERANCE, "centroid vbl (%.3f, %.3f) px, Cycles (%.3f, %.3f) px "
+          "(tolerance %.2f px)" % (vx, vy, cx, cy, CENTROID_TOLERANCE))
     print("BLENDER_TEST_MEANS vbl %.6g cycles %.6g ratio %.4f" % (vbl_mean, cycles_mean, ratio))
     if FAILURES:
         print("test_blender_addon: %d FAILED" % len(FAILURES))
