@@ -4,6 +4,7 @@ box.vdb), scenes (render options, overrides), renders (layers sum to beauty, fin
 Run by ctest with PYTHONPATH, VBL_LIBRARY, VBL_FIXTURE_DIR and VBL_ABI_SIZES set; exits 77
 (skipped) without numpy."""
 
+import ctypes
 import json
 import math
 import os
@@ -52,7 +53,9 @@ class TestLayout(unittest.TestCase):
                    "vbl_transmittance_options": vbl._TransmittanceOptions,
                    "vbl_transmittance_result": vbl._TransmittanceResult,
                    "vbl_scene_load_options": vbl._SceneLoadOptions, "vbl_render_progress": vbl._RenderProgress,
-                   "vbl_render_option_info": vbl._OptionInfo, "vbl_film_stats": vbl._FilmStats}
+                   "vbl_render_option_info": vbl._OptionInfo, "vbl_film_stats": vbl._FilmStats,
+                   "vbl_py_exr_options": vbl._native._ExrOptions}
+        sizes = dict(vbl.STRUCT_SIZES, vbl_py_exr_options=ctypes.sizeof(vbl._native._ExrOptions))
         lines = subprocess.run([helper], check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
         checked = 0
         for line in lines.split("\n"):
@@ -63,7 +66,7 @@ class TestLayout(unittest.TestCase):
                 struct, field = name.split(".")
                 self.assertEqual(getattr(structs[struct], field).offset, int(value), name)
             else:
-                self.assertEqual(vbl.STRUCT_SIZES[name], int(value), name)
+                self.assertEqual(sizes[name], int(value), name)
             checked += 1
         self.assertGreater(checked, 15)
 
