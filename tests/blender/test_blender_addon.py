@@ -5,10 +5,11 @@ renders it with the vbl engine (the EXR layers loaded as render passes and writt
 multi-layer EXR), and checks
   1. the add-on's film, and the passes Blender wrote, equal `vbl render` of the exported scene bit
      for bit;
-  2. the image mean agrees with Cycles rendering the same Blender scene (the reference kit's
-     unbiased settings, ../shared/tools/cycles-reference/cycles_common.py) within TOLERANCE.
+  2. the image mean and brightness centroid agree with Cycles rendering the same Blender scene (the
+     reference kit's unbiased settings, ../shared/tools/cycles-reference/cycles_common.py).
 Run: blender -b --factory-startup --python test_blender_addon.py -- SOURCE_DIR BUILD_DIR"""
 
+import json
 import math
 import os
 import subprocess
@@ -16,18 +17,13 @@ import sys
 import tempfile
 
 import bpy
-from mathutils import Euler, Matrix, Vector
+from mathutils import Euler, Matrix
 
-SOURCE, BUILD = sys.argv[sys.argv.index("--") + 1:][:2]
-sys.path[:0] = [os.path.join(SOURCE, "plugins", "blender"), os.path.join(BUILD, "python"),
-                os.path.join(SOURCE, "..", "shared", "tools", "cycles-reference")]
-os.environ.setdefault("VBL_LIBRARY", os.path.join(BUILD, "libvbl", "libvbl.so"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_test_util import BUILD, SCALE, check, compare_with_cycles, finish, principled_volume, render_to  # noqa: E402
+from blender_test_util import black_world  # noqa: E402
 
-try:
-    import numpy  # noqa: E402
-except ImportError:
-    print("test_blender_addon: SKIPPED: numpy is not importable in Blender's Python (apt-get install python3-numpy)")
-    sys.exit(77)
+import numpy  # noqa: E402
 
 import vbl  # noqa: E402
 import vbl_blender  # noqa: E402
@@ -38,15 +34,10 @@ import vbl_blender  # noqa: E402
 # Cycles 3.4 ray-marches (biased by ~0.04% at step rate 1 on a cloud: reference kit README). 3% is
 # ~4 combined standard errors; a wrong unit (P/(2 pi) for a point light) is off by tens of percent.
 TOLERANCE = 0.03
+# The brightness-weighted centroid: 0.02 px apart at the test's samples, 0.005 px at 8x; a
+# half-voxel misplacement (0.05 world units, Cycles' voxel centres) moves it by 0.2 px.
 CENTROID_TOLERANCE = 0.1
 WIDTH, HEIGHT = 24, 16
-FAILURES = []
-
-
-def check(condition, message):
-    print(("ok    " if condition else "FAIL  ") + message)
-    if not condition:
-        FAILURES.append(message)
 
 
 def build_scene():
@@ -54,10 +45,7 @@ def build_scene():
         bpy.data.objects.remove(ob, do_unlink=True)
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = WIDTH * 2, HEIGHT * 2, 50
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    scene.world = world
+    black_world(scene)
     # camera: 30 mm lens on a 36 mm sensor, AUTO fit (horizontal here)
     cam = bpy.data.cameras.new("cam")
     cam.lens, cam.sensor_width, cam.sensor_fit = 30.0, 36.0, "AUTO"
@@ -82,36 +70,12 @@ def build_scene():
     volume = bpy.data.volumes.new("sphere")
     volume.filepath = os.path.join(BUILD, "tests", "fixtures", "sphere.vdb")
     volume.render.space, volume.render.precision, volume.render.clipping = "WORLD", "FULL", 0.0
-    mat = bpy.data.materials.new("smoke")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    for node in list(nodes):
-        nodes.remove(node)
-    out = nodes.new("ShaderNodeOutputMaterial")
-    pv = nodes.new("ShaderNodeVolumePrincipled")
-    pv.inputs["Color"].default_value = (0.9, 0.8, 0.7, 1.0)
-    pv.inputs["Density"].default_value = 1.5
-    pv.inputs["Anisotropy"].default_value = 0.3
-    pv.inputs["Absorption Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    mat.node_tree.links.new(pv.outputs["Volume"], out.inputs["Volume"])
-    mat.cycles.volume_interpolation = "LINEAR"
-    volume.materials.append(mat)
+    volume.materials.append(principled_volume("smoke", 1.5, (0.9, 0.8, 0.7), 0.3))
     vol_ob = bpy.data.objects.new("sphere", volume)
     scene.collection.objects.link(vol_ob)
     vol_ob.matrix_world = (Matrix.Translation((0.0, 0.0, 0.8)) @ Matrix.Rotation(math.radians(25), 4, "Z")
                            @ Matrix.Translation((-1.0, -2.0, -3.0)))
     return scene
-
-
-def render_to(scene, path, file_format):
-    scene.render.filepath = path
-    scene.render.use_file_extension = False
-    image = scene.render.image_settings
-    image.file_format, image.color_depth = file_format, "32"
-    if file_format == "OPEN_EXR":
-        image.color_mode = "RGBA"
-    image.exr_codec = "ZIP"
-    bpy.ops.render.render(write_still=True)
 
 
 def main():
@@ -121,22 +85,20 @@ def main():
     # 1. the add-on against `vbl render` of the exported scene
     scene.render.engine = "VBL"
     settings = scene.vbl
-    settings.method, settings.passes, settings.spp, settings.seed, settings.max_bounces = "pt", 4 * int(os.environ.get("VBL_TEST_SCALE", "4")), 16, 1, 8
+    settings.method, settings.passes, settings.spp, settings.seed, settings.max_bounces = "pt", 4 * SCALE, 16, 1, 8
     settings.threads = 2
     settings.scene_path = os.path.join(tmp, "exported.json")
     settings.exr_path = os.path.join(tmp, "addon.exr")
-    scene.view_layers[0].use_pass_z = True
     render_to(scene, os.path.join(tmp, "blender_vbl.exr"), "OPEN_EXR_MULTILAYER")
     exported = os.path.join(tmp, "exported.json")
     check(os.path.exists(exported) and os.path.exists(os.path.join(tmp, "addon.exr")), "the add-on exported and rendered")
-    import json
     with open(exported) as f:
         data = json.load(f)
     fov = data["camera"]["fov_deg"]
     want_fov = math.degrees(2 * math.atan(18.0 / 30.0 * HEIGHT / WIDTH))
     check(abs(fov - want_fov) < 1e-9 and data["camera"]["resolution"] == [WIDTH, HEIGHT],
           "camera: vertical fov %.6f deg = 2 atan(36/2/30 * H/W), resolution %s" % (fov, data["camera"]["resolution"]))
-    point = [l for l in data["lights"] if l["type"] == "point"][0]
+    point = [light for light in data["lights"] if light["type"] == "point"][0]
     check(abs(point["intensity"][0] - 400.0 / (4 * math.pi)) < 1e-9, "point: I = P / (4 pi)")
     cli = os.path.join(tmp, "cli.exr")
     subprocess.run([os.path.join(BUILD, "bin", "vbl"), "render", exported, "-o", cli, "--aov", "all", "--threads", "2",
@@ -154,33 +116,10 @@ def main():
     check(not missing, "Blender's render passes hold the layers (missing: %s; have %s)" % (missing, names))
     equal = not missing and all(numpy.array_equal(passes.channel(p), a.channel(c)) for p, c in pairs)
     check(equal, "the passes Blender wrote = the vbl layers bit for bit (rows in order): %d channels" % len(pairs))
-    vbl_mean = float(numpy.mean(a.layer("")[..., :3]))
-    # 2. Cycles on the same Blender scene, with the reference kit's unbiased settings
-    import cycles_common
-    cycles_common.setup_render(scene, spp=64 * int(os.environ.get("VBL_TEST_SCALE", "4")), seed=0, threads=2, width=WIDTH * 2, height=HEIGHT * 2,
-                               volume_bounces=7)  # vbl max_bounces = Cycles volume_bounces + 1
-    scene.render.resolution_percentage = 50
-    cycles_path = os.path.join(tmp, "cycles.exr")
-    render_to(scene, cycles_path, "OPEN_EXR")
-    c = vbl.ExrFile(cycles_path)
-    cycles_mean = float(numpy.mean(c.layer("")[..., :3]))
-    ratio = vbl_mean / cycles_mean if cycles_mean > 0 else float("inf")
-    check(abs(ratio - 1.0) < TOLERANCE, "mean vbl %.6g / Cycles %.6g = %.4f (tolerance %.2f)"
-          % (vbl_mean, cycles_mean, ratio, TOLERANCE))
-    # where the light is: the brightness-weighted centroid (pixels); a half-voxel misplacement (0.05
-    # world units, ~0.3 px here) moves it by more than CENTROID_TOLERANCE
-    def centroid(rgb):
-        weight = rgb.mean(axis=-1)
-        rows, cols = numpy.mgrid[0:weight.shape[0], 0:weight.shape[1]]
-        return float((weight * cols).sum() / weight.sum()), float((weight * rows).sum() / weight.sum())
-    (vx, vy), (cx, cy) = centroid(a.layer("")[..., :3]), centroid(c.layer("")[..., :3])
-    check(math.hypot(vx - cx, vy - cy) < CENTROID_TOLERANCE, "centroid vbl (%.3f, %.3f) px, Cycles (%.3f, %.3f) px "
-          "(tolerance %.2f px)" % (vx, vy, cx, cy, CENTROID_TOLERANCE))
-    print("BLENDER_TEST_MEANS vbl %.6g cycles %.6g ratio %.4f" % (vbl_mean, cycles_mean, ratio))
-    if FAILURES:
-        print("test_blender_addon: %d FAILED" % len(FAILURES))
-        sys.exit(1)
-    print("test_blender_addon: all passed")
+    # 2. Cycles on the same Blender scene
+    compare_with_cycles(scene, a.layer(""), os.path.join(tmp, "cycles.exr"), 64 * SCALE, 7, TOLERANCE,
+                        CENTROID_TOLERANCE)
+    finish("test_blender_addon")
 
 
 try:
@@ -191,4 +130,3 @@ except BaseException:
     import traceback
     traceback.print_exc()
     sys.exit(1)
-sys.exit(0)
