@@ -106,7 +106,8 @@ class Film(Handle):
         "piz", "dwaa" or "none", and the same header attributes (docs/readme/output.md,
         "Metadata": vbl:scene, vbl:scene_hash, vbl:options_hash, vbl:passes, ...), so `vbl merge`
         and `vbl render --resume` take it. Written to a temporary name and renamed. `status`
-        defaults to the film's ("complete", "interrupted", "time_limit"). Films from vbl.render,
+        defaults to the film's ("complete", "interrupted", "time_limit"), `frame` (vbl:frame) to
+        the scene's. Films from vbl.render,
         vbl.merge and vbl.resume know their scene and options; others raise vbl.InvalidArgument."""
         if N._native is None:
             raise Unsupported("VBL_ERROR_UNSUPPORTED", "write_exr needs libvbl_python (plugins/python/native)")
@@ -128,6 +129,8 @@ class Film(Handle):
         o.status = encode(status)
         o.passes_requested = int(self._passes_requested)
         o.preset = encode(preset)
+        if frame is None:
+            frame = self._scene.frame  # vbl:frame of a scene loaded for a sequence frame, as --frames writes
         o.has_frame = frame is not None
         o.frame = int(frame) if frame is not None else 0
         o.compression = _COMPRESSION[compression]
