@@ -1,11 +1,13 @@
 """vbl.render, vbl.merge, vbl.resume. The render runs in a worker thread while the calling thread
-waits in Python, so Ctrl-C (SIGINT, delivered to the main thread) arrives at once: it sets the
-library's cancel flag (vbl_render_options.cancel through libvbl_python), the pass in progress
+waits in Python, so Ctrl-C (SIGINT, delivered to the main thread) arrives at once: while a render
+runs on the main thread with Python's default SIGINT handler, a handler of ours takes its place
+(so no KeyboardInterrupt interrupts this code half way); it sets the library's cancel flag (vbl_render_options.cancel through libvbl_python), the pass in progress
 stops at its next pixel and is dropped, and vbl.RenderInterrupted (a KeyboardInterrupt) is raised
 with the film of the complete passes. Without libvbl_python the render stops after the current
 pass instead (the pass callback returns "stop")."""
 
 import ctypes
+import signal
 import threading
 
 from . import _native as N
@@ -82,7 +84,16 @@ def _run(scene, options, callback, cancel, call):
         stop.set()
 
     worker = threading.Thread(target=work, name="vbl-render", daemon=True)
-    interrupted = None
+    interrupted = []
+
+    def on_sigint(signum, frame):  # in the main thread, between bytecodes: no exception mid-code
+        interrupted.append(signum)
+        request_stop()
+
+    previous = None
+    if threading.current_thread() is threading.main_thread() and \
+            signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        previous = signal.signal(signal.SIGINT, on_sigint)
     try:
         worker.start()
         while not finished.is_set():
@@ -90,16 +101,18 @@ def _run(scene, options, callback, cancel, call):
                 while not finished.wait(_POLL_SECONDS):
                     if _should_stop(cancel):
                         request_stop()
-            except KeyboardInterrupt as error:  # Ctrl-C: stop promptly, keep the complete passes
-                interrupted = interrupted or error
+            except KeyboardInterrupt:  # a handler of the caller's raised it: stop all the same
+                interrupted.append(signal.SIGINT)
                 request_stop()
     finally:
-        while not finished.is_set():  # an exception other than Ctrl-C while waiting
+        while worker.ident is not None and not finished.is_set():  # an exception while waiting
             request_stop()
             try:
                 finished.wait()
-            except KeyboardInterrupt as error:
-                interrupted = interrupted or error
+            except KeyboardInterrupt:
+                interrupted.append(signal.SIGINT)
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
         N._options_set_callback(options.handle, N._PassCallback(), None)
         if N._native is not None:
             N._native.vbl_py_options_set_cancel(options.handle, None)
@@ -109,7 +122,7 @@ def _run(scene, options, callback, cancel, call):
         raise errors[0]
     if done.get("error") is not None:
         raise done["error"]
-    if interrupted is not None:
+    if interrupted:
         raise RenderInterrupted("VBL_ERROR_INTERRUPTED", "render interrupted (Ctrl-C); the film holds %s"
                                 % ("%d complete passes" % film.stats["passes"] if film else "no pass"), film)
     if code == ERROR_INTERRUPTED and film is None:
