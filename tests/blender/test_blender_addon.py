@@ -6,7 +6,9 @@ multi-layer EXR), and checks
   1. the add-on's film, and the passes Blender wrote, equal `vbl render` of the exported scene bit
      for bit;
   2. the image mean and brightness centroid agree with Cycles rendering the same Blender scene (the
-     reference kit's unbiased settings, ../shared/tools/cycles-reference/cycles_common.py).
+     reference kit's unbiased settings, ../shared/tools/cycles-reference/cycles_common.py);
+  3. the same for a Diffuse BSDF floor mesh lit by a rectangular area light (mesh export, lambert,
+     the area light's unit).
 Run: blender -b --factory-startup --python test_blender_addon.py -- SOURCE_DIR BUILD_DIR"""
 
 import json
@@ -119,7 +121,50 @@ def main():
     # 2. Cycles on the same Blender scene
     compare_with_cycles(scene, a.layer(""), os.path.join(tmp, "cycles.exr"), 64 * SCALE, 7, TOLERANCE,
                         CENTROID_TOLERANCE)
+    # 3. surfaces: a Diffuse BSDF floor mesh lit by a rectangular area light, against Cycles
+    build_surface_scene()
+    scene.render.engine = "VBL"
+    settings.exr_path = os.path.join(tmp, "surfaces.exr")
+    settings.scene_path = os.path.join(tmp, "surfaces.json")
+    render_to(scene, os.path.join(tmp, "blender_surfaces.exr"), "OPEN_EXR_MULTILAYER")
+    with open(settings.scene_path) as f:
+        data = json.load(f)
+    check(len(data.get("surfaces", [])) == 1 and data["surfaces"][0]["material"]["type"] == "lambert",
+          "the floor exported as an OBJ with a lambert material")
+    compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
+                        64 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
     finish("test_blender_addon")
+
+
+def build_surface_scene():
+    """A 4 m Diffuse BSDF floor (albedo (0.6, 0.5, 0.4)) under a tilted 0.8 x 0.4 m area light (60 W)."""
+    for ob in list(bpy.data.objects):
+        if ob.type != "CAMERA":
+            bpy.data.objects.remove(ob, do_unlink=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 32, 24, 100
+    cam_ob = scene.camera
+    cam_ob.location = (0.0, -4.0, 2.5)
+    cam_ob.rotation_euler = Euler((math.radians(60), 0.0, 0.0), "XYZ")
+    bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.5, 0.0))
+    floor = bpy.context.active_object
+    mat = bpy.data.materials.new("floor")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for node in list(nodes):
+        nodes.remove(node)
+    out = nodes.new("ShaderNodeOutputMaterial")
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.6, 0.5, 0.4, 1.0)
+    diffuse.inputs["Roughness"].default_value = 0.0
+    mat.node_tree.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
+    floor.data.materials.append(mat)
+    area = bpy.data.lights.new("area", "AREA")
+    area.shape, area.size, area.size_y, area.energy = "RECTANGLE", 0.8, 0.4, 60.0
+    area_ob = bpy.data.objects.new("area", area)
+    area_ob.location = (0.3, 0.6, 1.2)
+    area_ob.rotation_euler = Euler((math.radians(20), 0.0, math.radians(30)), "XYZ")
+    scene.collection.objects.link(area_ob)
 
 
 try:

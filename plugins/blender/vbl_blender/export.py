@@ -8,8 +8,9 @@ reference kit (../shared/tools/cycles-reference/README.md, "Conventions"):
 - point: Power P [W] = 4 pi I (vbl `point`, intensity I [W/sr]); spot: the same intensity on the
   axis, cone half-angle spot_size / 2 and a smoothstep blend over
   (1 - cos(outer)) * spot_blend in cosine (Cycles' spot_smooth), vbl's inner angle;
-- area (square/rectangle): Power P [W] is the flux of a one-sided Lambertian emitter, radiance
-  L = P / (pi A) (vbl `quad`, emitting along the light's local -Z);
+- area (square/rectangle): radiance L = P / (4 A) for Power P [W] and area A (measured against
+  Cycles 3.4 in test_blender_addon: P / (pi A), the flux of a Lambertian emitter, is 4/pi too
+  bright), vbl `quad`, emitting along the light's local -Z;
 - volume objects: voxel (i, j, k) of Cycles 3.4 sits at indexToWorld(i + 1/2, ...), so the vbl
   transform is matrix_world @ T(half a voxel); density `render.space` OBJECT divides the density
   by the object's scale;
@@ -116,7 +117,7 @@ def export_light(obj, warnings):
         corner = m.translation - 0.5 * x - 0.5 * y
         # one-sided along local -Z: cross(edge1, edge2) = cross(y, x) points along -Z
         return {"type": "quad", "corner": list(corner), "edge1": list(y), "edge2": list(x),
-                "radiance": _rgb(color, light.energy / (math.pi * area))}
+                "radiance": _rgb(color, light.energy / (4.0 * area))}
     warnings.append("light %r of type %s is not exported" % (obj.name, light.type))
     return None
 
