@@ -7,7 +7,8 @@ reference kit (../shared/tools/cycles-reference/README.md, "Conventions"):
 - sun: Strength is irradiance E [W/m^2] (vbl `distant`, travelling along the sun's local -Z);
 - point: Power P [W] = 4 pi I (vbl `point`, intensity I [W/sr]); spot: the same intensity on the
   axis, cone half-angle spot_size / 2 and a smoothstep blend over
-  (1 - cos(outer)) * spot_blend in cosine (Cycles' spot_smooth), vbl's inner angle;
+  (1 - cos(outer)) * spot_blend in cosine (Cycles' spot_smooth), vbl's inner angle; not exact:
+  Cycles is 2-17% dimmer by the cone's width (docs/readme/blender.md);
 - area (square/rectangle): radiance L = P / (4 A) for Power P [W] and area A (measured against
   Cycles 3.4 in test_blender_addon: P / (pi A), the flux of a Lambertian emitter, is 4/pi too
   bright), vbl `quad`, emitting along the light's local -Z;
