@@ -130,6 +130,8 @@ class VblRenderEngine(bpy.types.RenderEngine):
             if render_pass is not None:
                 render_pass.rect = film.layer(name)[::-1].reshape(-1, 3)
         for name in film.aovs:
+            if name not in AOV_PASSES:
+                continue
             pass_name, channels, _, _ = AOV_PASSES[name]
             render_pass = layer.passes.get(pass_name)
             if render_pass is not None:

@@ -177,9 +177,9 @@ def export_medium(obj, material, vdb, matrix, warnings, default_grid="density"):
     medium["albedo"] = [min(1.0, s / t) if t > 0.0 else 1.0 for s, t in zip(sigma_s, sigma_t)]
     g = float(_socket_value(node, "Anisotropy"))
     medium["phase"] = {"type": "hg", "g": max(-0.999, min(0.999, g))}
-    # emission: Cycles adds Strength * Color (times a linked attribute) per unit length; vbl adds
-    # sigma_a * Le (docs/readme/emission.md, "Convention"), so Le = j / sigma_a, exact where
-    # density * sigma_a is constant over the emitting region.
+    # emission: Cycles adds j = Strength * Color (times a linked attribute) per unit length; vbl adds
+    # sigma_a * Le (docs/readme/emission.md, "Convention") with sigma_a = Density (1 - albedo) grid,
+    # so Le = j / sigma_a: exact where the density grid is 1 over the emitting region.
     strength = float(_socket_value(node, "Emission Strength"))
     mean_a = sum(sigma_a) / 3.0
     if strength > 0.0 or _linked_attribute(node, "Emission Strength"):
@@ -191,8 +191,8 @@ def export_medium(obj, material, vdb, matrix, warnings, default_grid="density"):
             attribute = _linked_attribute(node, "Emission Strength")
             medium["emission"] = {"grid": attribute or grid, "color": emission_color,
                                   "scale": (strength if not attribute else 1.0) / mean_a}
-            warnings.append("volume %r: emission mapped as Le = j / sigma_a (exact where the density is "
-                            "uniform)" % obj.name)
+            warnings.append("volume %r: emission mapped as Le = j / sigma_a (exact where the density grid "
+                            "is 1)" % obj.name)
     blackbody = float(_socket_value(node, "Blackbody Intensity"))
     if blackbody > 0.0:
         if mean_a <= 0.0:

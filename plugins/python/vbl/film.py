@@ -31,7 +31,7 @@ _COMPRESSION = {"none": 0, "zip": 1, "piz": 2, "dwaa": 3}
 class Film(Handle):
     """The result of a render. `beauty`, `layer(name)`: copies as numpy float32 (H, W, C), row 0 at
     the top. `layers`: the transport layers present (they sum to the beauty's RGB); `aovs`: the
-    AOVs present (Z, samples, variance). A context manager; close() frees it."""
+    other layers (Z, samples, variance). A context manager; close() frees it."""
 
     _release = staticmethod(lambda handle: N._film_release(handle))
 
@@ -57,13 +57,15 @@ class Film(Handle):
 
     @property
     def layers(self):
-        """The light-transport layers present (emission, volume_direct, ...), in film order."""
-        return [name for name in self.layer_names if name and name not in AOV_LAYERS]
+        """The light-transport layers present (emission, volume_direct, ...: vbl.TRANSPORT_LAYERS,
+        the classes that sum to the beauty), in film order."""
+        return [name for name in self.layer_names if name in TRANSPORT_LAYERS]
 
     @property
     def aovs(self):
-        """The AOV layers present: "Z", "samples", "variance"."""
-        return [name for name in self.layer_names if name in AOV_LAYERS]
+        """The other layers present besides the beauty: "Z", "samples", "variance" (vbl.AOV_LAYERS)
+        and any derived layer a newer library adds."""
+        return [name for name in self.layer_names if name and name not in TRANSPORT_LAYERS]
 
     def channels(self, name):
         key = encode("" if name == "beauty" else name)
