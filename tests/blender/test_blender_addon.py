@@ -118,6 +118,14 @@ def main():
     check(not missing, "Blender's render passes hold the layers (missing: %s; have %s)" % (missing, names))
     equal = not missing and all(numpy.array_equal(passes.channel(p), a.channel(c)) for p, c in pairs)
     check(equal, "the passes Blender wrote = the vbl layers bit for bit (rows in order): %d channels" % len(pairs))
+    # the export operator (File > Export > vbl scene) writes the scene the engine rendered
+    operator_path = os.path.join(tmp, "operator.json")
+    check(bpy.ops.export_scene.vbl(filepath=operator_path) == {"FINISHED"}, "File > Export > vbl scene ran")
+    with open(operator_path) as f:
+        check(json.load(f) == data, "the operator's scene = the engine's exported scene")
+    # Esc: test_break true 0.3 s in -> the pass in progress is dropped and the passes shown are the
+    # complete ones, equal to `vbl render --passes N` (no assertion on time: on what the film holds)
+    test_cancel(scene, tmp, exported)
     # 2. Cycles on the same Blender scene
     compare_with_cycles(scene, a.layer(""), os.path.join(tmp, "cycles.exr"), 64 * SCALE, 7, TOLERANCE,
                         CENTROID_TOLERANCE)
@@ -134,6 +142,41 @@ def main():
     compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
                         64 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
     finish("test_blender_addon")
+
+
+def test_cancel(scene, tmp, exported):
+    import time
+    engine = vbl_blender.engine.VblRenderEngine
+    start = []
+
+    def should_cancel(self):  # "Esc" 0.3 s into the render (polled every 50 ms by vbl.render)
+        start.append(time.monotonic()) if not start else None
+        return time.monotonic() - start[0] > 0.3
+
+    original = engine.should_cancel
+    engine.should_cancel = should_cancel
+    settings = scene.vbl
+    settings.passes = 20000  # ~1 ms each: the test fails, not hangs, if Esc were ignored
+    settings.exr_path = os.path.join(tmp, "cancelled.exr")
+    try:
+        render_to(scene, os.path.join(tmp, "blender_cancelled.exr"), "OPEN_EXR_MULTILAYER")
+    finally:
+        engine.should_cancel = original
+        settings.passes = 4 * SCALE
+    cancelled = vbl.ExrFile(settings.exr_path)
+    passes = cancelled.attributes["vbl:passes"]
+    check(1 <= passes < 20000 and cancelled.attributes["vbl:status"] == "interrupted",
+          "Esc (test_break) stopped the render after %d complete passes (status %s)"
+          % (passes, cancelled.attributes["vbl:status"]))
+    cli = os.path.join(tmp, "cli_cancelled.exr")
+    subprocess.run([os.path.join(BUILD, "bin", "vbl"), "render", exported, "-o", cli, "--aov", "all", "--threads", "2",
+                    "--passes", str(passes), "--quiet"], check=True)
+    reference = vbl.ExrFile(cli)
+    check(all(numpy.array_equal(reference.channel(c), cancelled.channel(c)) for c in reference.channel_names),
+          "the cancelled film = vbl render --passes %d bit for bit" % passes)
+    shown = vbl.ExrFile(os.path.join(tmp, "blender_cancelled.exr"))
+    check(numpy.array_equal(shown.channel("ViewLayer.Combined.R"), reference.channel("R")),
+          "Blender shows the complete passes")
 
 
 def build_surface_scene():

@@ -98,7 +98,7 @@ class VblRenderEngine(bpy.types.RenderEngine):
             if p is not None:
                 self.update_progress(p["pass"] / float(total))
                 self.update_stats("vbl", "pass %d / %d, %.1f s" % (p["pass"], total, p["elapsed_seconds"]))
-            return self.test_break()
+            return self.should_cancel()
 
         overrides = {"threads": settings.threads} if settings.threads > 0 else {}
         film = None
@@ -119,6 +119,10 @@ class VblRenderEngine(bpy.types.RenderEngine):
         finally:
             if film is not None:
                 film.close()
+
+    def should_cancel(self):
+        """Esc in Blender (RenderEngine.test_break); a Python method so tests can stand in for it."""
+        return self.test_break()
 
     def write_passes(self, vbl, film, width, height):
         result = self.begin_result(0, 0, width, height)
