@@ -177,6 +177,13 @@ class TestInterrupt(unittest.TestCase):
             self.assertGreaterEqual(film.stats["passes"], 2)
             self.assertEqual(film.stats["cancelled"], 1)
             same_film(self, film, vbl.render(scene, passes=film.stats["passes"]))
+            # stopped before the first pass completes: RenderInterrupted with the library's message
+            early = threading.Event()
+            early.set()
+            with self.assertRaises(vbl.RenderInterrupted) as raised:
+                vbl.render(scene, passes=1000000, cancel=early)
+            self.assertIsNone(raised.exception.film)
+            self.assertIn("no pass completed", raised.exception.message)
 
 
 class TestWriteExr(unittest.TestCase):

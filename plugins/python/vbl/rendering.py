@@ -75,7 +75,8 @@ def _run(scene, options, callback, cancel, call):
     def work():
         try:
             done["code"] = call(ctypes.byref(handle))
-            done["error"] = error_for(done["code"]) if done["code"] not in (0, ERROR_INTERRUPTED) else None
+            # the library's message is per thread: read it here
+            done["error"] = error_for(done["code"]) if done["code"] != 0 else None
         finally:
             finished.set()
 
@@ -95,6 +96,8 @@ def _run(scene, options, callback, cancel, call):
             signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         previous = signal.signal(signal.SIGINT, on_sigint)
     try:
+        if _should_stop(cancel):  # already cancelled: the first pass stops at its first pixel
+            request_stop()
         worker.start()
         while not finished.is_set():
             try:
@@ -120,14 +123,13 @@ def _run(scene, options, callback, cancel, call):
     film = Film(handle, scene, options, options.get("passes")) if handle else None
     if errors:
         raise errors[0]
-    if done.get("error") is not None:
+    if done.get("error") is not None and code != ERROR_INTERRUPTED:
         raise done["error"]
     if interrupted:
         raise RenderInterrupted("VBL_ERROR_INTERRUPTED", "render interrupted (Ctrl-C); the film holds %s"
                                 % ("%d complete passes" % film.stats["passes"] if film else "no pass"), film)
     if code == ERROR_INTERRUPTED and film is None:
-        error = error_for(code)
-        raise error
+        raise done["error"]  # vbl.RenderInterrupted: stopped before a pass completed
     return film
 
 
