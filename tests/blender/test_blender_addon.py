@@ -14,6 +14,7 @@ Run: blender -b --factory-startup --python test_blender_addon.py -- SOURCE_DIR B
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -141,6 +142,7 @@ def main():
           "the floor exported as an OBJ with a lambert material")
     compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
                         64 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
+    shutil.rmtree(tmp, ignore_errors=True)
     finish("test_blender_addon")
 
 

@@ -8,6 +8,7 @@ Run: blender -b --factory-startup --python test_blender_mantaflow.py -- SOURCE_D
 
 import math
 import os
+import shutil
 import sys
 import tempfile
 
@@ -89,6 +90,7 @@ def main():
     beauty = vbl.ExrFile(settings.exr_path).layer("")
     check(float(beauty[..., :3].mean()) > 0.0, "the smoke is in view")
     compare_with_cycles(scene, beauty, os.path.join(tmp, "cycles.exr"), 32 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
+    shutil.rmtree(tmp, ignore_errors=True)
     finish("test_blender_mantaflow")
 
 

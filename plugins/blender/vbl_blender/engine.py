@@ -6,6 +6,7 @@ variance AOVs, for the compositor."""
 
 import json
 import os
+import shutil
 import tempfile
 
 import bpy
@@ -73,7 +74,17 @@ class VblRenderEngine(bpy.types.RenderEngine):
             self.report({"ERROR"}, "vbl: the Python module is not importable (set its folder in the add-on "
                                    "preferences or $VBL_PYTHONPATH): %s" % error)
             return
-        folder = tempfile.mkdtemp(prefix="vbl-blender-")
+        # the scene file and its OBJ meshes: next to the kept scene file, else in a temporary folder
+        # removed after the render
+        kept = bpy.path.abspath(settings.scene_path) if settings.scene_path else ""
+        folder = os.path.dirname(kept) if kept else tempfile.mkdtemp(prefix="vbl-blender-")
+        try:
+            self.render_scene(vbl, scene, settings, depsgraph, folder, kept or os.path.join(folder, "scene.json"))
+        finally:
+            if not kept:
+                shutil.rmtree(folder, ignore_errors=True)
+
+    def render_scene(self, vbl, scene, settings, depsgraph, folder, path):
         try:
             data, warnings = export.export_scene(scene, folder, depsgraph, render_block(settings))
         except export.ExportError as error:
@@ -81,7 +92,6 @@ class VblRenderEngine(bpy.types.RenderEngine):
             return
         for warning in warnings:
             self.report({"WARNING"}, "vbl: %s" % warning)
-        path = settings.scene_path and bpy.path.abspath(settings.scene_path) or os.path.join(folder, "scene.json")
         with open(path, "w") as f:
             json.dump(data, f, indent=1)
         width, height = data["camera"]["resolution"]

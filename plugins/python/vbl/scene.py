@@ -6,6 +6,7 @@ import ctypes
 import json
 import os
 import tempfile
+import weakref
 
 from . import _native as N
 from ._handle import Handle
@@ -14,6 +15,13 @@ from .errors import Unsupported, check, decode
 
 # Keys of a scene that hold file paths (made absolute by Scene.from_dict).
 _PATH_KEYS = (("media", "vdb"), ("media", "emission", "vdb"), ("media", "temperature", "vdb"), ("surfaces", "mesh"))
+
+
+def _remove_quietly(path):
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
 
 
 class ColorConfig(Handle):
@@ -107,14 +115,15 @@ class Scene(Handle):
         except BaseException:
             os.unlink(path)
             raise
-        self._temporary = path
+        # removed by close(), at garbage collection, or at interpreter exit, whichever comes first
+        self._temporary = weakref.finalize(self, _remove_quietly, path)
         return self
 
     def close(self):
         Handle.close(self)
-        path, self._temporary = getattr(self, "_temporary", None), None
-        if path and os.path.exists(path):
-            os.unlink(path)
+        temporary, self._temporary = getattr(self, "_temporary", None), None
+        if temporary is not None:
+            temporary()
 
     @property
     def path(self):
