@@ -10,6 +10,7 @@ prefix=$(mktemp -d)
 trap 'rm -rf "$prefix"' EXIT
 "$cmake" --install "$build" --prefix "$prefix" >"$prefix/install.log" 2>&1 || { cat "$prefix/install.log"; exit 1; }
 cd "$prefix"
+[ -f "$prefix/share/libvbl/blender/vbl_blender/__init__.py" ] || { echo "the Blender add-on was not installed"; exit 1; }
 env -u VBL_LIBRARY -u VBL_PYTHON_NATIVE PYTHONPATH="$prefix/$pydir" VBL_BOX="$box" PREFIX="$prefix" "$python" - <<'PY'
 import importlib.metadata, os, sys
 import vbl
