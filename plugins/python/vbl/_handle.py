@@ -10,12 +10,14 @@ class Handle:
 
     @property
     def handle(self):
+        """The library handle (ctypes void pointer); raises vbl.InvalidArgument once closed."""
         if not self._handle:
             raise InvalidArgument("VBL_ERROR_INVALID_ARGUMENT", "%s is closed" % type(self).__name__)
         return self._handle
 
     @property
     def closed(self):
+        """True once close() ran."""
         return not self._handle
 
     def close(self):

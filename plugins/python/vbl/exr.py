@@ -52,18 +52,22 @@ class ExrFile(Handle):
 
     @property
     def width(self):
+        """Width of the data window in pixels."""
         return N._native.vbl_py_exr_width(self.handle)
 
     @property
     def height(self):
+        """Height of the data window in pixels."""
         return N._native.vbl_py_exr_height(self.handle)
 
     @property
     def channel_names(self):
+        """Every channel in file order ("A", "B", "G", "R", "Z", "volume_direct.R", ...)."""
         return [decode(N._native.vbl_py_exr_channel_name(self.handle, i))
                 for i in range(N._native.vbl_py_exr_channel_count(self.handle))]
 
     def channel(self, name):
+        """One channel as numpy float32 (height, width), row 0 at the top."""
         import numpy
         names = self.channel_names
         if name not in names:
@@ -98,6 +102,7 @@ class ExrFile(Handle):
 
     @property
     def attributes(self):
+        """The header attributes other than the required ones: name -> str, int or float."""
         out = {}
         for index in range(N._native.vbl_py_exr_attribute_count(self.handle)):
             name = N._native.vbl_py_exr_attribute_name(self.handle, index)

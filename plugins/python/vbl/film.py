@@ -44,10 +44,12 @@ class Film(Handle):
 
     @property
     def width(self):
+        """Width in pixels."""
         return N._film_width(self.handle)
 
     @property
     def height(self):
+        """Height in pixels."""
         return N._film_height(self.handle)
 
     @property
@@ -68,6 +70,7 @@ class Film(Handle):
         return [name for name in self.layer_names if name and name not in TRANSPORT_LAYERS]
 
     def channels(self, name):
+        """Channel names of a layer: "R", "G", "B"[, "A"], or "Z" / "Y"."""
         key = encode("" if name == "beauty" else name)
         return [decode(N._film_layer_channel_name(self.handle, key, c))
                 for c in range(N._film_layer_channel_count(self.handle, key))]
@@ -93,6 +96,8 @@ class Film(Handle):
 
     @property
     def stats(self):
+        """vbl_film_stats as a dict: method (name), passes, spp, light_paths, seed, threads,
+        render_seconds, cancelled, time_limited, first_pass, discarded_pass."""
         stats = N._FilmStats()
         stats.size = ctypes.sizeof(N._FilmStats)
         check(N._film_get_stats(self.handle, ctypes.byref(stats)))

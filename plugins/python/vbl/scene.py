@@ -120,6 +120,7 @@ class Scene(Handle):
         return self
 
     def close(self):
+        """Frees the scene and removes a from_dict scene's temporary file. Idempotent."""
         Handle.close(self)
         temporary, self._temporary = getattr(self, "_temporary", None), None
         if temporary is not None:
@@ -127,23 +128,28 @@ class Scene(Handle):
 
     @property
     def path(self):
+        """The scene file's path (a from_dict scene's temporary file)."""
         return decode(N._scene_path(self.handle))
 
     @property
     def resolution(self):
+        """(width, height) of the camera."""
         w, h = ctypes.c_int(), ctypes.c_int()
         N._scene_resolution(self.handle, ctypes.byref(w), ctypes.byref(h))
         return (w.value, h.value)
 
     @property
     def light_count(self):
+        """Number of lights."""
         return N._scene_light_count(self.handle)
 
     @property
     def medium_count(self):
+        """Number of media."""
         return N._scene_medium_count(self.handle)
 
     def medium_path(self, index):
+        """The VDB path of medium `index` as loaded (overrides and frame applied)."""
         return decode(N._scene_medium_path(self.handle, int(index)))
 
     def _render_options(self):
