@@ -142,6 +142,10 @@ def main():
           "the floor exported as an OBJ with a lambert material")
     compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
                         64 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
+    vbl_blender.unregister()
+    engines = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
+    check(not hasattr(bpy.types.Scene, "vbl") and "VBL" not in engines,
+          "the add-on unregisters cleanly")
     shutil.rmtree(tmp, ignore_errors=True)
     finish("test_blender_addon")
 
