@@ -42,6 +42,7 @@ int main(void)
     OFF(vbl_py_exr_options, half_layers);
     OFF(vbl_py_exr_options, aov_variance);
     OFF(vbl_py_exr_options, color);
+    OFF(vbl_py_exr_options, output_space);
 #endif
     return 0;
 }

@@ -215,6 +215,23 @@ class TestWriteExr(unittest.TestCase):
                     self.assertEqual(want[name], have[name], name)
             self.assertEqual(have["vbl:status"], "complete")
             self.assertEqual(sorted(a.layer_names), sorted(["", "Z"] + film.layers + ["samples", "variance"]))
+            # --output-space: the same conversion as the CLI's
+            subprocess.run([cli, "render", path, "-o", os.path.join(tmp, "cli_acescg.exr"), "--threads", "2",
+                            "--output-space", "ACEScg", "--quiet"], check=True, stdout=subprocess.DEVNULL)
+            with vbl.Scene(path) as scene:
+                vbl.render(scene, threads=2).write_exr(os.path.join(tmp, "py_acescg.exr"), output_space="ACEScg")
+                with self.assertRaises(vbl.InvalidArgument):
+                    vbl.render(scene, passes=1).write_exr(os.path.join(tmp, "bad.exr"), output_space="no such space")
+            ca, cb = vbl.ExrFile(os.path.join(tmp, "cli_acescg.exr")), vbl.ExrFile(os.path.join(tmp, "py_acescg.exr"))
+            self.assertEqual(ca.channel_names, cb.channel_names)
+            for channel in ca.channel_names:
+                numpy.testing.assert_array_equal(ca.channel(channel), cb.channel(channel), err_msg=channel)
+            want, have = ca.attributes, cb.attributes
+            self.assertEqual(sorted(want), sorted(have))
+            for name in want:
+                if name != "vbl:render_seconds":
+                    self.assertEqual(want[name], have[name], name)
+            self.assertNotEqual(want["oiio:ColorSpace"], vbl.default_color_config().scene_linear)
             # a checkpoint written from Python resumes with the CLI
             with vbl.Scene(path) as scene:
                 vbl.render(scene, passes=1, threads=2).write_exr(os.path.join(tmp, "part.exr"), status="checkpoint")

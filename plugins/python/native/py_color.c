@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "vbl_color.h"
+#include "py_exr_convert.h"
 #include "vbl_python_native.h"
 
 struct vbl_py_color {
@@ -70,3 +71,5 @@ int vbl_py_color_chromaticities(const vbl_py_color* c, float out[8])
     vbl_clear_error(); /* unknown primaries: no attribute (documented) */
     return ok;
 }
+
+const vbl_color_config* vbl_py_color_config(const vbl_py_color* c) { return c ? c->config : NULL; }

@@ -1,6 +1,6 @@
 /* A film as the EXR `vbl render` writes (vbl_python_native.h): the same layers (AOVs by request,
  * Z unprefixed, one-channel layers as ".Y"), HALF rules and header attributes as
- * plugins/cli/render_output.c (vbl_render_meta_make); tests/pipeline/test_python.py compares the
+ * plugins/cli/render_output.c (vbl_render_meta_make); tests/pipeline/test_python_idioms.py compares the
  * two files attribute by attribute, so a change on one side fails there. */
 #define _POSIX_C_SOURCE 200809L
 #define _XOPEN_SOURCE 700
@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "py_exr_convert.h"
 #include "vbl_color.h"
 #include "vbl_exr.h"
 #include "vbl_python_native.h"
@@ -115,6 +116,22 @@ vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const v
         return r;
     }
     const char* space = vbl_py_color_scene_space(color);
+    const char* output = space; /* the EXR's colour space */
+    double matrix[9];
+    if (o->output_space) {
+        r = vbl_color_resolve_space(vbl_py_color_config(color), o->output_space, &output);
+        if (!r && strcmp(output, space)) r = vbl_py_color_matrix(color, output, matrix);
+        if (r) {
+            char msg[2048];
+            snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
+            vbl_py_color_release(own);
+            free(m);
+            return vbl_report_error(r, "%s: output_space: %s", path, msg);
+        }
+    }
+    const int convert = strcmp(output, space) != 0;
+    const size_t n = (size_t)vbl_film_width(film) * (size_t)vbl_film_height(film);
+    float* owned[VBL_PY_MAX_LAYERS] = {0};
     /* header attributes, in the CLI's order */
     const vbl_exr_attribute_type S = VBL_EXR_ATTRIBUTE_STRING, I = VBL_EXR_ATTRIBUTE_INT, D = VBL_EXR_ATTRIBUTE_DOUBLE;
     const char* status = o->status ? o->status
@@ -149,6 +166,7 @@ vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const v
     static const char* const z_names[1] = {"Z"};
     static const char* const y_names[1] = {"Y"};
     vbl_exr_layer layers[VBL_PY_MAX_LAYERS];
+    vbl_py_kind kinds[VBL_PY_MAX_LAYERS];
     int count = 0;
     for (int i = 0; i < vbl_film_layer_count(film) && count < VBL_PY_MAX_LAYERS; ++i) {
         const char* name = vbl_film_layer_name(film, i);
@@ -167,16 +185,36 @@ vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const v
         l->pixels = px;
         l->store_half = kind != VBL_PY_Z && kind != VBL_PY_SAMPLES &&
                         (o->half_all || vbl_py_list_has(o->half_layers, kind == VBL_PY_BEAUTY ? "beauty" : name));
+        kinds[count - 1] = kind;
+        if (convert && channels >= 3 && kind != VBL_PY_Z && kind != VBL_PY_SAMPLES) {
+            owned[count - 1] = vbl_py_convert_layer(px, n, channels, matrix, kind == VBL_PY_VARIANCE);
+            if (!owned[count - 1]) r = vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory converting colours", path);
+            else l->pixels = owned[count - 1];
+        }
+    }
+    if (!r && convert) { /* the layers still sum to the beauty exactly, in film order */
+        const float* transport[VBL_PY_MAX_LAYERS];
+        int transport_channels[VBL_PY_MAX_LAYERS], transport_count = 0, beauty = -1;
+        for (int k = 0; k < count; ++k) {
+            if (kinds[k] == VBL_PY_BEAUTY) beauty = k;
+            if (kinds[k] == VBL_PY_TRANSPORT && layers[k].channel_count >= 3)
+                transport[transport_count] = layers[k].pixels, transport_channels[transport_count++] = layers[k].channel_count;
+        }
+        if (beauty >= 0 && transport_count > 0 && owned[beauty])
+            vbl_py_resum_beauty(owned[beauty], layers[beauty].channel_count, transport, transport_channels,
+                                transport_count, n);
     }
     float chroma[8];
-    int have_chroma = vbl_py_color_chromaticities(color, chroma);
+    int have_chroma = vbl_color_space_chromaticities(vbl_py_color_config(color), output, chroma) == VBL_SUCCESS;
+    vbl_clear_error(); /* unknown primaries: no chromaticities attribute, as `vbl render` */
     vbl_exr_write_options wo = VBL_EXR_WRITE_OPTIONS_DEFAULT;
     wo.attributes = m->attrs;
     wo.attribute_count = m->count;
     if (o->compression >= 0) wo.compression = (vbl_exr_compression)o->compression;
-    wo.color_space = space;
+    wo.color_space = output;
     wo.chromaticities = have_chroma ? chroma : NULL;
-    r = vbl_exr_write(path, vbl_film_width(film), vbl_film_height(film), layers, count, &wo);
+    if (!r) r = vbl_exr_write(path, vbl_film_width(film), vbl_film_height(film), layers, count, &wo);
+    for (int k = 0; k < count; ++k) free(owned[k]);
     vbl_py_color_release(own);
     free(m);
     return r;

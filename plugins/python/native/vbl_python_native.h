@@ -57,10 +57,13 @@ typedef struct vbl_py_exr_options {
     const char* half_layers;      /* comma-separated colour layers as HALF (beauty, emission, ..., variance) */
     int aov_z, aov_samples, aov_variance; /* write these AOVs when the film has them */
     const vbl_py_color* color;    /* NULL: open the default config (as `vbl render` without --config) */
+    const char* output_space;     /* NULL: scene_linear; else a linear colour space or role of the config
+                                     (`vbl render --output-space`): colour layers converted, the beauty
+                                     re-summed from the converted transport layers */
 } vbl_py_exr_options;
 
-/* Writes `film` to `path` (temporary name, then renamed) with the header attributes of
- * `vbl render -o path` (docs/readme/output.md, "Metadata"), in scene_linear. */
+/* Writes `film` to `path` (temporary name, then renamed) with the layers and header attributes of
+ * `vbl render -o path` (docs/readme/output.md, "Metadata"), in scene_linear or `output_space`. */
 VBL_API vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const vbl_py_exr_options* options);
 
 /* An EXR file read whole (planar float channels, row 0 at the top) with its header attributes:

@@ -274,7 +274,8 @@ class _ExrOptions(ctypes.Structure):
                 ("aov_z", ctypes.c_int),
                 ("aov_samples", ctypes.c_int),
                 ("aov_variance", ctypes.c_int),
-                ("color", _P)]
+                ("color", _P),
+                ("output_space", ctypes.c_char_p)]
 
 
 def _load_native():

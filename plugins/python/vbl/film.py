@@ -106,7 +106,7 @@ class Film(Handle):
         return out
 
     def write_exr(self, path, aovs=(), half=False, half_layers=(), compression="zip", status=None,
-                  preset=None, frame=None, scene_label=None):
+                  preset=None, frame=None, scene_label=None, output_space=None):
         """Writes the film as `vbl render -o path` does: the beauty, the transport layers and the
         `aovs` asked for ("z", "samples", "variance" or "all", as --aov), FLOAT unless `half` (every
         colour layer, --half) or named in `half_layers` (--half-layers), `compression` "zip",
@@ -147,4 +147,5 @@ class Film(Handle):
                                                   every or "variance" in wanted)
         config = self._scene.color_config
         o.color = config.handle if config is not None else None
+        o.output_space = encode(output_space)
         check(N._native.vbl_py_film_write_exr(self.handle, encode(os.fspath(path)), ctypes.byref(o)))
