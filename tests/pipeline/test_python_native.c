@@ -147,6 +147,16 @@ static void test_write_and_read_exr(void** state)
     for (int p = 0; p < 24; ++p) assert_true(red[p] == beauty[p * channels]);
     vbl_py_exr_close(file);
     assert_int_equal(vbl_py_exr_open(path_in("nope.exr"), &file), VBL_ERROR_FILE_NOT_FOUND);
+    /* another output space: converted colour layers, the beauty re-summed from them */
+    o.output_space = "no such space";
+    assert_int_equal(vbl_py_film_write_exr(film, path_in("acescg.exr"), &o), VBL_ERROR_INVALID_ARGUMENT);
+    o.output_space = "ACEScg";
+    assert_int_equal(vbl_py_film_write_exr(film, path_in("acescg.exr"), &o), VBL_SUCCESS);
+    assert_int_equal(vbl_py_exr_open(path_in("acescg.exr"), &file), VBL_SUCCESS);
+    const char* written = vbl_py_exr_attribute(file, "oiio:ColorSpace", NULL);
+    assert_non_null(written);
+    assert_non_null(strstr(written, "ACEScg"));
+    vbl_py_exr_close(file);
     vbl_film_release(film);
     vbl_render_options_destroy(options);
     vbl_scene_release(scene);
@@ -162,7 +172,7 @@ int main(void)
         cmocka_unit_test(test_write_and_read_exr),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
-    const char* names[] = {"cancel.json", "acescg.json", "unknown.json", "exr.json", "out.exr"};
+    const char* names[] = {"cancel.json", "acescg.json", "unknown.json", "exr.json", "out.exr", "acescg.exr"};
     for (size_t i = 0; i < sizeof names / sizeof *names; ++i) unlink(path_in(names[i]));
     rmdir(g_dir);
     return failed;
