@@ -51,7 +51,7 @@ case "$mode" in
     # Second build with AddressSanitizer + UndefinedBehaviorSanitizer; long statistical renders
     # (label 'slow') and the documentation checks (label 'docs', no C code) run only in the
     # optimized build above.
-    build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF
+    build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF -DVBL_GENERATORS_FROM="$PWD/build"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "slow|docs"
     ;;
