@@ -178,6 +178,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     ctx.extinction = &scene->extinction;
     ctx.options = *options;
     ctx.options.size = sizeof(vbl_render_options);
+    ctx.options.light_paths = vbl_render_options_light_paths(options); /* 0: the method's default */
     ctx.tracking.estimator = vbl_uncached(options->transmittance);
     ctx.tracking.march_step = 0.0;
     ctx.tracking.use_global_majorant = 0;
@@ -194,7 +195,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
-    vbl_render_driver driver = {scene, options, accum, 0, ctx.threads, start};
+    vbl_render_driver driver = {scene, &ctx.options, accum, 0, ctx.threads, start};
     /* Stopping inside a pass (cancel flag, time limit after the first pass) restores the
      * accumulators of the last complete pass from this copy: the film never holds part of a pass. */
     vbl_pixel_accum* backup = NULL;
