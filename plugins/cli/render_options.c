@@ -15,7 +15,7 @@ static void vbl_render_usage(FILE* out)
     fprintf(out,
             "usage: vbl render SCENE.json -o OUT.exr [options]\n\n"
             "Renders a scene file (README 'Rendering') to one multi-layer OpenEXR: beauty R,G,B,A and one\n"
-            "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
+            "layer per light-transport class the scene produces (background, volume_direct, volume_from_volume),\n"
             "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
             "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
             "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
@@ -27,7 +27,7 @@ static void vbl_render_usage(FILE* out)
             "  --aov LIST                 extra layers, comma-separated: z, samples, variance, all\n"
             "  --half                     store beauty, transport and variance layers as HALF (default FLOAT;\n"
             "                             HALF layers no longer sum to the beauty exactly). Z, samples: FLOAT\n"
-            "  --half-layers LIST         only these layers as HALF (beauty, emission, volume_direct, ...)\n"
+            "  --half-layers LIST         only these layers as HALF (beauty, background, volume_direct, ...)\n"
             "  --compression NAME         none|zip|piz|dwaa (default zip)\n"
             "  --tiled                    tiled EXR (default scanlines); --tile-size N (default 64)\n"
             "  --checkpoint-passes N      rewrite OUT.exr every N passes while rendering\n"

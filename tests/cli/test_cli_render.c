@@ -73,10 +73,10 @@ static const char* attr(const vbl_exr_image* img, const char* name)
     return v;
 }
 
-/* Beauty R,G,B == float sum emission + volume_direct + volume_from_volume, in that order. */
+/* Beauty R,G,B == float sum background + volume_direct + volume_from_volume, in that order. */
 static void assert_layers_sum(const vbl_exr_image* img)
 {
-    static const char* const layers[3] = {"emission", "volume_direct", "volume_from_volume"};
+    static const char* const layers[3] = {"background", "volume_direct", "volume_from_volume"};
     static const char* const rgb[3] = {"R", "G", "B"};
     int nonzero = 0;
     for (int c = 0; c < 3; ++c) {
@@ -106,10 +106,11 @@ static void test_layers_metadata_aovs_preview(void** state)
     vbl_exr_image* img = render_and_read("full.exr", extra);
     assert_int_equal(vbl_exr_image_width(img), W);
     assert_int_equal(vbl_exr_image_height(img), H);
-    static const char* const expected[] = {"A", "B", "G", "R", "Z", "emission.B", "emission.G", "emission.R",
+    static const char* const expected[] = {"A", "B", "G", "R", "Z", "background.B", "background.G", "background.R",
                                            "samples.Y", "variance.B", "variance.G", "variance.R",
                                            "volume_direct.B", "volume_direct.G", "volume_direct.R",
-                                           "volume_from_volume.B", "volume_from_volume.G", "volume_from_volume.R"};
+                                           "volume_from_volume.B", "volume_from_volume.G", "volume_from_volume.R",
+                                           "volume_indirect.B",    "volume_indirect.G",    "volume_indirect.R"};
     int n = (int)(sizeof expected / sizeof expected[0]);
     assert_int_equal(vbl_exr_image_channel_count(img), n);
     for (int i = 0; i < n; ++i) {
@@ -209,11 +210,11 @@ static void test_storage_options(void** state)
     }
     vbl_exr_image_release(img);
 
-    img = render_and_read("some.exr", "--half-layers emission,beauty --compression none");
+    img = render_and_read("some.exr", "--half-layers background,beauty --compression none");
     assert_int_equal(vbl_exr_image_compression(img), VBL_EXR_COMPRESSION_NONE);
     for (int i = 0; i < vbl_exr_image_channel_count(img); ++i) {
         const char* name = vbl_exr_image_channel_name(img, i);
-        int want_half = !strchr(name, '.') || !strncmp(name, "emission.", 9);
+        int want_half = !strchr(name, '.') || !strncmp(name, "background.", 11);
         if (vbl_exr_image_channel_is_half(img, i) != want_half) fail_msg("channel %s half = %d", name, !want_half);
     }
     vbl_exr_image_release(img);
