@@ -135,7 +135,21 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         const char* v = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = 1, ok = 1, option = -1;
+        int takes = 1, ok = 1, option = -1, inline_value = 0;
+        char flag[128];
+        const char* eq = a[0] == '-' && a[1] == '-' ? strchr(a, '=') : NULL;
+        if (eq) { /* getopt_long's --flag=value */
+            size_t n = (size_t)(eq - a);
+            if (n >= sizeof flag) {
+                fprintf(stderr, "vbl render: unknown option '%s' (see 'vbl render --help')\n", a);
+                return VBL_EXIT_USAGE;
+            }
+            memcpy(flag, a, n);
+            flag[n] = 0;
+            a = flag;
+            v = eq + 1;
+            inline_value = 1;
+        }
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             vbl_render_usage(stdout);
             return VBL_EXIT_OK;
@@ -215,7 +229,11 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             fprintf(stderr, "vbl render: invalid value '%s' for %s (see 'vbl render --help')\n", v, a);
             return VBL_EXIT_USAGE;
         }
-        i += takes;
+        if (inline_value && !takes) {
+            fprintf(stderr, "vbl render: %s takes no value (got '%s')\n", a, v);
+            return VBL_EXIT_USAGE;
+        }
+        i += inline_value ? 0 : takes;
     }
     if (!args->scene_path || !args->output) {
         fprintf(stderr, "vbl render: %s\n\n", !args->scene_path ? "no scene file given" : "no output given (-o OUT.exr)");
