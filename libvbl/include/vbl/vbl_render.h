@@ -51,9 +51,15 @@ typedef struct vbl_scene_load_options {
      * VBL_ERROR_FILE_NOT_FOUND naming the field, the frame and the file. */
     int frame;
     int use_frame;
+    /* Shot overrides (docs/readme/render.md, "Camera"). camera: NULL, or the name of an entry of
+     * the scene's "cameras", else a JSON file holding a camera object (or {"camera": {...}});
+     * neither: VBL_ERROR_FILE_NOT_FOUND. width, height > 0: the image size instead of the
+     * camera's resolution (the lens keeps its vertical fov, or its focal length, sensor and fit). */
+    const char* camera;
+    int width, height;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
@@ -77,6 +83,8 @@ VBL_API const char* vbl_scene_path(const vbl_scene* scene);
 VBL_API void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height);
 VBL_API int vbl_scene_light_count(const vbl_scene* scene);
 VBL_API int vbl_scene_medium_count(const vbl_scene* scene);
+/* 1 if some medium emits light (fire): the scene is lit even without lights. */
+VBL_API int vbl_scene_has_emission(const vbl_scene* scene);
 /* The resolved VDB path of media[index] (NULL if out of range). */
 VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
 /* The scene's top-level "color_space" as written (its colours were converted from it at load),

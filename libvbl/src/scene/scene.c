@@ -36,6 +36,7 @@ void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height)
 
 int vbl_scene_light_count(const vbl_scene* scene) { return scene ? scene->light_count : 0; }
 int vbl_scene_medium_count(const vbl_scene* scene) { return scene ? scene->media_count : 0; }
+int vbl_scene_has_emission(const vbl_scene* scene) { return scene ? scene->has_emission : 0; }
 
 const char* vbl_scene_color_space(const vbl_scene* scene)
 {

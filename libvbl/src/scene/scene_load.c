@@ -16,6 +16,7 @@
 #include "scene/scene_render_block.h"
 #include "scene/media_emission.h"
 #include "scene/scene_grids.h"
+#include "scene/scene_camera.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"
 
@@ -102,40 +103,6 @@ static vbl_result vbl_parse_color(const vbl_json_ctx* ctx, const vbl_scene_color
             return vbl_json_fail(ctx, "%s converts to [%g, %g, %g] in scene_linear: outside [%g, %g]", field, rgb[0],
                                  rgb[1], rgb[2], min, max);
     *out = vbl_v3(rgb[0], rgb[1], rgb[2]);
-    return VBL_SUCCESS;
-}
-
-static vbl_result vbl_parse_camera(const vbl_json_ctx* ctx, const cJSON* root, vbl_camera* cam)
-{
-    static const char* const keys[] = {"position", "look_at", "up", "fov_deg", "resolution", NULL};
-    const cJSON* obj = NULL;
-    vbl_result r;
-    if ((r = vbl_json_object(ctx, root, "", "camera", 1, &obj))) return r;
-    if ((r = vbl_json_check_keys(ctx, obj, "camera", keys))) return r;
-    vbl_vec3 position, look_at, up = vbl_v3(0.0, 0.0, 1.0);
-    double fov = 40.0;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "position", 1, &position))) return r;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "look_at", 1, &look_at))) return r;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "up", 0, &up))) return r;
-    if ((r = vbl_json_number(ctx, obj, "camera", "fov_deg", 0, &fov))) return r;
-    if (!(fov > 0.0 && fov < 180.0)) return vbl_json_fail(ctx, "camera.fov_deg = %g is outside (0, 180)", fov);
-    const cJSON* res = cJSON_GetObjectItemCaseSensitive(obj, "resolution");
-    if (!res) return vbl_json_fail(ctx, "camera.resolution is missing");
-    if (!cJSON_IsArray(res) || cJSON_GetArraySize(res) != 2)
-        return vbl_json_fail(ctx, "camera.resolution must be an array [width, height]");
-    int wh[2];
-    for (int i = 0; i < 2; ++i) {
-        const cJSON* c = cJSON_GetArrayItem(res, i);
-        if (!cJSON_IsNumber(c) || c->valuedouble != floor(c->valuedouble))
-            return vbl_json_fail(ctx, "camera.resolution[%d] must be an integer", i);
-        if (c->valuedouble < 1 || c->valuedouble > 32768)
-            return vbl_json_fail(ctx, "camera.resolution[%d] = %g is outside [1, 32768]", i, c->valuedouble);
-        wh[i] = (int)c->valuedouble;
-    }
-    if (!(vbl_v3_length(vbl_v3_sub(look_at, position)) > 0.0))
-        return vbl_json_fail(ctx, "camera.look_at equals camera.position");
-    if (vbl_camera_make(position, look_at, up, fov, wh[0], wh[1], cam))
-        return vbl_json_fail(ctx, "camera.up is zero or parallel to the view direction");
     return VBL_SUCCESS;
 }
 
@@ -235,7 +202,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
                                    const char* field, const char* dir, const char* vdb_override, vbl_medium* medium)
 {
     static const char* const keys[] = {"vdb",       "grid",     "density_scale", "albedo", "phase",
-                                       "transform", "emission", "temperature",   NULL};
+                                       "transform", "emission", "temperature",   "grid_index", NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
@@ -244,6 +211,8 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     const char* grid = "density";
     if ((r = vbl_json_string(ctx, obj, field, "vdb", vdb_override == NULL, &vdb))) return r;
     if ((r = vbl_json_string(ctx, obj, field, "grid", 0, &grid))) return r;
+    double grid_index = -1.0; /* the grid_index-th grid of that name in file order (vbl info lists them) */
+    if ((r = vbl_json_int(ctx, obj, field, "grid_index", 0, 0.0, 1e6, &grid_index))) return r;
     medium->density_scale = 1.0;
     if ((r = vbl_json_number(ctx, obj, field, "density_scale", 0, &medium->density_scale))) return r;
     if (medium->density_scale < 0.0)
@@ -288,6 +257,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     fclose(probe);
     vbl_volume_load_options load = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
     load.grid_name = grid;
+    load.grid_index = (int)grid_index;
     r = vbl_volume_load(medium->vdb_path, &load, &medium->volume);
     if (r) {
         char inner[1024];
@@ -381,7 +351,7 @@ static vbl_result vbl_surface_color(const vbl_json_ctx* ctx, const void* colors,
 
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
 {
-    static const char* const keys[] = {"camera", "lights", "media", "render", "color_space", "surfaces", NULL};
+    static const char* const keys[] = {"camera", "cameras", "lights", "media", "render", "color_space", "surfaces", NULL};
     vbl_json_ctx ctx = {scene->path};
     vbl_result r;
     if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
@@ -404,7 +374,6 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
         colors.convert = options->convert_color;
         colors.user = options->convert_color_user;
     }
-    if ((r = vbl_parse_camera(&ctx, root, &scene->camera))) return r;
 
     const cJSON* lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights) {
@@ -453,6 +422,8 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
                              scene->media_count);
 
     if ((r = vbl_scene_parse_surfaces(scene, &ctx, root, dir, vbl_surface_color, &colors))) return r;
+    /* after the media: "frame_media" frames their bounds */
+    if ((r = vbl_scene_parse_camera(&ctx, root, scene, options, &scene->camera))) return r;
 
     vbl_render_options defaults = VBL_RENDER_OPTIONS_DEFAULT;
     scene->render = defaults;
