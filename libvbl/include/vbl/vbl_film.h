@@ -47,8 +47,8 @@ typedef enum vbl_transport_class {
  * one of the classes is): "volume_indirect" = volume_from_surface + volume_from_volume,
  * "surface_indirect" = surface_from_surface + surface_from_volume (Cycles' Volume/Diffuse
  * Indirect). They are not transport classes: do not add them to the beauty. */
-#define VBL_FILM_TOTAL_VOLUME_INDIRECT "volume_indirect"
-#define VBL_FILM_TOTAL_SURFACE_INDIRECT "surface_indirect"
+#define VBL_FILM_TOTAL_VOLUME_INDIRECT "volume_indirect"   /* volume_from_surface + volume_from_volume */
+#define VBL_FILM_TOTAL_SURFACE_INDIRECT "surface_indirect" /* surface_from_surface + surface_from_volume */
 
 /* Z of a pixel where no camera sample hit anything (no collision in the media, no surface): a
  * large depth, as Cycles writes for the background (Nuke's ZDefocus and deep tools read it as
