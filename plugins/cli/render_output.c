@@ -149,6 +149,7 @@ static int vbl_render_is_colour_layer(const char* p, size_t n)
 {
     if ((n == 6 && !strncmp(p, "beauty", 6)) || (n == 8 && !strncmp(p, "variance", 8))) return 1;
     if (vbl_render_is_total(p, n)) return 1;
+    if (n > 11 && !strncmp(p, "lightgroup_", 11)) return 1;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
         const char* name = vbl_transport_class_name((vbl_transport_class)c);
         if (strlen(name) == n && !strncmp(p, name, n)) return 1;
@@ -335,13 +336,15 @@ typedef enum {
     VBL_KIND_Z,
     VBL_KIND_SAMPLES,
     VBL_KIND_VARIANCE,
-    VBL_KIND_TOTAL /* volume_indirect, surface_indirect: sums of transport layers */
+    VBL_KIND_TOTAL, /* volume_indirect, surface_indirect: sums of transport layers */
+    VBL_KIND_GROUP  /* lightgroup_<name>: a light group's beauty (not re-summed) */
 } vbl_layer_kind;
 
 static vbl_layer_kind vbl_render_layer_kind(const char* name)
 {
     if (!name[0]) return VBL_KIND_BEAUTY;
     if (vbl_render_is_total(name, strlen(name))) return VBL_KIND_TOTAL;
+    if (!strncmp(name, "lightgroup_", 11)) return VBL_KIND_GROUP;
     if (!strcmp(name, "Z")) return VBL_KIND_Z;
     if (!strcmp(name, "samples")) return VBL_KIND_SAMPLES;
     if (!strcmp(name, "variance")) return VBL_KIND_VARIANCE;

@@ -184,7 +184,10 @@ typedef enum vbl_render_option_effect {
     F(cancel, const volatile int*, NULL)                                                                     \
     X(transparent, int, BOOL, "transparent", "--transparent", 0, 0, 1, 0, NULL, HASH,                       \
       "the beauty leaves out the background layer (environment and lights seen directly): a premultiplied " \
-      "element over A; without it A = 1 wherever a background is rendered")
+      "element over A; without it A = 1 wherever a background is rendered")                               \
+    X(light_groups, int, BOOL, "light_groups", "--light-groups", 0, 0, 1, 0, NULL, HASH,                    \
+      "one beauty layer per light group (lights' \"group\"; untagged lights and emissive media: default); "   \
+      "renders the groups one after another (time x groups)")
 
 /* ---- the struct, generated ------------------------------------------------------------- */
 

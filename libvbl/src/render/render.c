@@ -174,6 +174,9 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                          "%s: the scene has emissive media, which only method 'pt' renders so far (not '%s')",
                          scene->path, est->name);
 
+    if (options->light_groups && scene->light_group_count > 0)
+        return vbl_render_light_groups(scene, options, est, out_film); /* one render per group */
+
     vbl_render_context ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.scene = scene;

@@ -106,15 +106,46 @@ static vbl_result vbl_parse_color(const vbl_json_ctx* ctx, const vbl_scene_color
     return VBL_SUCCESS;
 }
 
+/* A light's "group": a name of letters, digits and '_' (at most 20); the first use adds it. */
+static vbl_result vbl_scene_parse_light_group(const vbl_json_ctx* ctx, const cJSON* obj, const char* field,
+                                              vbl_scene* scene, vbl_light* light)
+{
+    const char* name = NULL;
+    vbl_result r = vbl_json_string(ctx, obj, field, "group", 0, &name);
+    light->group = 0;
+    if (r || !name) return r;
+    size_t n = strlen(name);
+    int ok = n > 0 && n <= 20; /* "lightgroup_<name>" fits a film layer name */
+    for (size_t k = 0; ok && k < n; ++k)
+        ok = (name[k] >= 'a' && name[k] <= 'z') || (name[k] >= 'A' && name[k] <= 'Z') ||
+             (name[k] >= '0' && name[k] <= '9') || name[k] == '_';
+    if (!ok)
+        return vbl_json_fail(ctx, "%s.group = \"%s\" is not a name of 1 to 20 letters, digits or '_'", field, name);
+    if (scene->light_group_count == 0) {
+        snprintf(scene->light_groups[0], sizeof scene->light_groups[0], "default");
+        scene->light_group_count = 1;
+    }
+    for (int g = 0; g < scene->light_group_count; ++g)
+        if (!strcmp(scene->light_groups[g], name)) {
+            light->group = g;
+            return VBL_SUCCESS;
+        }
+    if (scene->light_group_count >= VBL_MAX_LIGHT_GROUPS)
+        return vbl_json_fail(ctx, "%s.group = \"%s\": more than %d light groups", field, name, VBL_MAX_LIGHT_GROUPS - 1);
+    snprintf(scene->light_groups[scene->light_group_count], sizeof scene->light_groups[0], "%s", name);
+    light->group = scene->light_group_count++;
+    return VBL_SUCCESS;
+}
+
 static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
                                   const char* field, vbl_light* light)
 {
-    static const char* const point_keys[] = {"type", "position", "intensity", NULL};
+    static const char* const point_keys[] = {"type", "position", "intensity", "group", NULL};
     static const char* const spot_keys[] = {"type", "position", "direction", "intensity",
-                                            "inner_angle_deg", "outer_angle_deg", NULL};
-    static const char* const distant_keys[] = {"type", "direction", "irradiance", NULL};
-    static const char* const quad_keys[] = {"type", "corner", "edge1", "edge2", "radiance", NULL};
-    static const char* const env_keys[] = {"type", "radiance", NULL};
+                                            "inner_angle_deg", "outer_angle_deg", "group", NULL};
+    static const char* const distant_keys[] = {"type", "direction", "irradiance", "group", NULL};
+    static const char* const quad_keys[] = {"type", "corner", "edge1", "edge2", "radiance", "group", NULL};
+    static const char* const env_keys[] = {"type", "radiance", "group", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
     const char* type = NULL;
@@ -385,6 +416,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             char field[64];
             snprintf(field, sizeof field, "lights[%d]", i);
             if ((r = vbl_parse_light(&ctx, &colors, l, field, &scene->lights[i]))) return r;
+            if ((r = vbl_scene_parse_light_group(&ctx, l, field, scene, &scene->lights[i]))) return r;
             if (vbl_v3_max_component(scene->lights[i].color) <= 0.0) continue; /* black lights do nothing */
             if (scene->lights[i].type == VBL_LIGHT_QUAD || scene->lights[i].type == VBL_LIGHT_ENVIRONMENT)
                 scene->has_visible_lights = 1;
