@@ -174,6 +174,13 @@ static void test_groups_merge(void** state)
     vbl_film_release(a);
     vbl_film_release(b);
     vbl_film_release(whole);
+    /* every light tagged, no emissive media: the empty default group is neither rendered nor written */
+    vbl_scene* all_tagged = load(3, 1);
+    vbl_film* two = render(all_tagged, VBL_RENDER_PT, 1, SEED, 0, 1);
+    assert_null(vbl_film_layer(two, "lightgroup_default", NULL));
+    assert_non_null(vbl_film_layer_rgb(two, "lightgroup_key"));
+    vbl_film_release(two);
+    vbl_scene_release(all_tagged);
     /* a time limit would end the groups at different pass counts: refused */
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     o.light_groups = 1;

@@ -5,7 +5,9 @@
  * the groups' class layers (group order), the beauty is the float sum of those classes as always,
  * and each group's beauty is written as the layer "lightgroup_<name>". Group g renders with the
  * seed seed + g * 0x9E3779B97F4A7C15 (g = 0: the seed itself), so the groups' noise is independent
- * and their variances add. */
+ * and their variances add. A group without lights (the default group when every light is
+ * tagged and no medium emits) is not rendered and has no layer. The camera-ray AOVs (A, Z,
+ * samples) are the first rendered group's. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,7 +47,7 @@ static const float* vbl_group_layer(const vbl_film* film, const char* name, int 
 
 /* The combined film of the groups' films. */
 static vbl_result vbl_light_groups_combine(const vbl_scene* scene, const vbl_render_options* options,
-                                           vbl_film* const* films, int count, vbl_film** out_film)
+                                           vbl_film* const* films, const int* groups, int count, vbl_film** out_film)
 {
     const int w = scene->camera.width, h = scene->camera.height;
     const size_t n = (size_t)w * (size_t)h;
@@ -117,7 +119,7 @@ static vbl_result vbl_light_groups_combine(const vbl_scene* scene, const vbl_ren
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < 3; ++k) buf[3 * i + k] = px ? px[4 * i + k] : 0.0f;
         char name[32];
-        snprintf(name, sizeof name, "lightgroup_%s", scene->light_groups[g]);
+        snprintf(name, sizeof name, "lightgroup_%s", scene->light_groups[groups[g]]);
         r = vbl_film_add_layer(film, name, 3, NULL, buf);
     }
     if (!r) r = vbl_film_compute_totals(film);
@@ -140,10 +142,13 @@ vbl_result vbl_render_light_groups(const vbl_scene* scene, const vbl_render_opti
         return vbl_error(VBL_ERROR_UNSUPPORTED,
                          "%s: light_groups with a time_limit: the groups would end with different pass counts",
                          scene->path);
-    const int count = scene->light_group_count;
     vbl_film* films[VBL_MAX_LIGHT_GROUPS] = {NULL};
+    int groups[VBL_MAX_LIGHT_GROUPS], count = 0;
     vbl_result r = VBL_SUCCESS;
-    for (int g = 0; g < count && !r; ++g) {
+    for (int g = 0; g < scene->light_group_count && !r; ++g) {
+        int used = g == 0 && scene->has_emission; /* a group without lights gets no render and no layer */
+        for (int i = 0; i < scene->light_count; ++i) used |= scene->lights[i].group == g;
+        if (!used) continue;
         vbl_scene* part = vbl_light_group_scene(scene, g);
         if (!part) {
             r = vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the light groups", scene->path);
@@ -153,10 +158,11 @@ vbl_result vbl_render_light_groups(const vbl_scene* scene, const vbl_render_opti
         o.light_groups = 0;
         o.callback = NULL; /* passes of one group are not the render's progress */
         o.seed = options->seed + (uint64_t)g * VBL_LIGHT_GROUP_SEED_STEP;
-        r = vbl_render_with_estimator(part, &o, est, &films[g]);
+        groups[count] = g;
+        r = vbl_render_with_estimator(part, &o, est, &films[count++]);
         free(part);
     }
-    if (!r) r = vbl_light_groups_combine(scene, options, films, count, out_film);
+    if (!r) r = vbl_light_groups_combine(scene, options, films, groups, count, out_film);
     for (int g = 0; g < count; ++g) vbl_film_release(films[g]);
     return r;
 }
