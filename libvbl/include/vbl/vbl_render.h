@@ -148,6 +148,8 @@ typedef struct vbl_film_stats {
     int transparent;              /* 1: options.transparent (the beauty leaves out `background`) */
 } vbl_film_stats;
 
+/* out->size: sizeof(vbl_film_stats), or the size of an older struct (without the fields added
+ * since), which then receives only its own fields. */
 VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out);
 
 /* ---- rendering ------------------------------------------------------------------------- */

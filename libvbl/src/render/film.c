@@ -1,6 +1,7 @@
 /* Film layers: accumulators -> float layers; the public vbl_film getters. */
 #include "render/film.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -290,10 +291,12 @@ const float* vbl_film_layer_rgb(const vbl_film* film, const char* name)
 vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
 {
     if (!film || !out) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_get_stats: NULL argument");
-    if (out->size < sizeof(vbl_film_stats))
+    /* callers built before `transparent` pass the older, smaller struct: they get its fields */
+    if (out->size < offsetof(vbl_film_stats, transparent))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_get_stats: out.size is too small");
-    size_t size = out->size;
-    *out = film->stats;
-    out->size = size;
+    size_t size = out->size < sizeof(vbl_film_stats) ? out->size : sizeof(vbl_film_stats);
+    vbl_film_stats copy = film->stats;
+    copy.size = size;
+    memcpy(out, &copy, size);
     return VBL_SUCCESS;
 }
