@@ -124,7 +124,7 @@ static void test_no_lights_warning(void** state)
     if (!log || !strstr(log, "warning") || !strstr(log, "no lights")) fail_msg("no warning in:\n%s", log ? log : "");
     free(log);
     /* a lit scene: no warning */
-    run("lit.exr", "-q --passes 1 --spp 1", 0, &log);
+    vbl_exr_image_release(run("lit.exr", "-q --passes 1 --spp 1", 0, &log));
     assert_true(!log || !strstr(log, "warning"));
     free(log);
 }
