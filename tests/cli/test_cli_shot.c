@@ -75,6 +75,13 @@ static void test_resolution_camera_equals(void** state)
     assert_int_equal(vbl_exr_image_width(img), 3);
     assert_int_equal(vbl_exr_image_height(img), 9);
     vbl_exr_image_release(img);
+    /* --flag=value in the other commands too (main.c splits it for them) */
+    char* out = NULL;
+    snprintf(extra, sizeof extra, "diff '%s' '%s' --layer=beauty", ct_path(dir, "res.exr"), ct_path(dir, "res.exr"));
+    if (ct_vbl_run(extra, &out, 1) != 0) fail_msg("vbl %s:\n%s", extra, out ? out : "");
+    assert_non_null(out);
+    assert_non_null(strstr(out, "beauty"));
+    free(out);
     run("bad.exr", "-q --camera nowhere --passes 1", 3, NULL);
     run("bad.exr", "-q --resolution 8 --passes 1", 2, NULL);
     run("bad.exr", "-q --resolution 0x4 --passes 1", 2, NULL);
