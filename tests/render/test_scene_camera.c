@@ -243,6 +243,61 @@ static void test_grid_index_and_refusals(void** state)
     }
 }
 
+
+/* Sequences: camera fields and a medium's transform per frame, interpolated between keyed frames,
+ * held outside them; without a frame (no --frames) the static values. */
+static void test_per_frame_camera_and_media(void** state)
+{
+    (void)state;
+    char text[4096], path[512];
+    snprintf(text, sizeof text,
+             "{\"camera\": {\"position\": [0.75, -4, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40,"
+             " \"resolution\": [8, 8], \"frames\": {\"1\": {\"position\": [0.75, -4, 0.75]},"
+             " \"11\": {\"position\": [0.75, -2, 0.75], \"fov_deg\": 20}}},"
+             " \"media\": [{\"vdb\": \"%s\", \"transform_frames\": {"
+             "\"1\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],"
+             "\"3\": [[2, 0, 0, 2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}}]}",
+             box_vdb);
+    rt_write_file(rt_temp_dir, "seq.json", text, path);
+    static const struct {
+        int use_frame, frame;
+        double distance, tan_v, scale_x, offset_x;
+    } cases[] = {
+        {0, 0, 4.0, 0.36397023426620234, 1.0, 0.0},   /* static: fov 40, no transform */
+        {1, 6, 3.0, 0.17632698070846498, 2.0, 2.0},   /* between camera keys; past the media keys */
+        {1, 2, 3.8, 0.17632698070846498, 1.5, 1.0},   /* fov held at its only key (20) */
+        {1, 20, 2.0, 0.17632698070846498, 2.0, 2.0},  /* held after the last key */
+        {1, -5, 4.0, 0.17632698070846498, 1.0, 0.0},  /* held before the first key */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        vbl_scene_load_options o = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+        o.use_frame = cases[i].use_frame;
+        o.frame = cases[i].frame;
+        vbl_scene* scene = NULL;
+        if (vbl_scene_load_ex(path, &o, &scene)) fail_msg("case %zu: %s", i, vbl_last_error_message());
+        double w2c[16], w2n[16];
+        assert_int_equal(vbl_scene_camera_matrices(scene, w2c, w2n), VBL_SUCCESS);
+        double th, tv;
+        tans(scene, &th, &tv);
+        if (fabs(w2c[14] - cases[i].distance) > 1e-12 || fabs(tv - cases[i].tan_v) > 1e-12)
+            fail_msg("case %zu: distance %.15g tan %.15g", i, w2c[14], tv);
+        assert_float_equal(scene->media[0].volume_to_scene.m[0][0], cases[i].scale_x, 1e-12);
+        assert_float_equal(scene->media[0].volume_to_scene.m[0][3], cases[i].offset_x, 1e-12);
+        vbl_scene_release(scene);
+    }
+    /* frame keys must be integers */
+    rt_write_file(rt_temp_dir, "seq_bad.json",
+                  "{\"camera\": {\"position\": [0, -4, 0], \"look_at\": [0, 0, 0], \"resolution\": [4, 4],"
+                  " \"frames\": {\"first\": {\"position\": [0, -3, 0]}}}}",
+                  path);
+    vbl_scene_load_options o = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+    o.use_frame = 1;
+    o.frame = 1;
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_load_ex(path, &o, &scene), VBL_ERROR_SCENE);
+    assert_non_null(strstr(vbl_last_error_message(), "not a frame number"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -251,6 +306,7 @@ int main(void)
         cmocka_unit_test(test_named_camera_and_file),
         cmocka_unit_test(test_frame_media),
         cmocka_unit_test(test_grid_index_and_refusals),
+        cmocka_unit_test(test_per_frame_camera_and_media),
     };
     return cmocka_run_group_tests(tests, setup, rt_temp_dir_teardown);
 }

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "scene/scene_build.h"
+#include "scene/scene_keyframes.h"
 
 /* The media's bounding box in scene space: the 8 corners of every volume's world bounds through
  * its placement. 0 without media. */
@@ -76,7 +77,8 @@ static vbl_result vbl_camera_from_json(const vbl_json_ctx* ctx, const cJSON* obj
 {
     static const char* const keys[] = {"position",     "look_at",       "up",         "fov_deg",
                                        "resolution",   "focal_length",  "sensor_width", "sensor_height",
-                                       "sensor_fit",   "frame_media",   NULL};
+                                       "sensor_fit",   "frame_media",   "frames",       NULL};
+    static const char* const key_keys[] = {"position", "look_at", "up", "fov_deg", "focal_length", NULL};
     static const char* const frame_keys[] = {"direction", "margin", NULL};
     vbl_result r;
     const int framed_string = cJSON_IsString(obj) && !strcmp(obj->valuestring, "auto");
@@ -114,6 +116,30 @@ static vbl_result vbl_camera_from_json(const vbl_json_ctx* ctx, const cJSON* obj
     if (!r && !(sensor_w > 0.0 && sensor_w < 1e6 && sensor_h > 0.0 && sensor_h < 1e6))
         r = vbl_json_fail(ctx, "%s.sensor_width / sensor_height = %g / %g mm: each must be in (0, 1e6)", field, sensor_w,
                           sensor_h);
+    /* sequences: per-frame values, interpolated between keyed frames (scene_keyframes.h) */
+    const cJSON* frames = cJSON_GetObjectItemCaseSensitive(obj, "frames");
+    if (!r && frames && !cJSON_IsObject(frames)) r = vbl_json_fail(ctx, "%s.frames must be an object of frames", field);
+    if (!r && frames && options && options->use_frame) {
+        char kf[512];
+        vbl_json_field(kf, sizeof kf, field, "frames");
+        for (const cJSON* k = frames->child; !r && k; k = k->next) {
+            char one[600];
+            snprintf(one, sizeof one, "%s.%s", kf, k->string ? k->string : "");
+            if (!cJSON_IsObject(k)) r = vbl_json_fail(ctx, "%s must be an object", one);
+            else r = vbl_json_check_keys(ctx, k, one, key_keys);
+            if (!r && !has_focal && cJSON_GetObjectItemCaseSensitive(k, "focal_length"))
+                r = vbl_json_fail(ctx, "%s.focal_length: animate a focal_length only on a camera that has one", one);
+        }
+        if (!r && !frame) r = vbl_keyframes_vec3(ctx, frames, kf, "position", options->frame, &position);
+        if (!r && !frame) r = vbl_keyframes_vec3(ctx, frames, kf, "look_at", options->frame, &look_at);
+        if (!r) r = vbl_keyframes_vec3(ctx, frames, kf, "up", options->frame, &up);
+        if (!r) r = vbl_keyframes_number(ctx, frames, kf, "fov_deg", options->frame, &fov);
+        if (!r) r = vbl_keyframes_number(ctx, frames, kf, "focal_length", options->frame, &focal);
+        if (!r && !(fov > 0.0 && fov < 180.0))
+            r = vbl_json_fail(ctx, "%s: fov_deg = %g at frame %d is outside (0, 180)", kf, fov, options->frame);
+        if (!r && has_focal && !(focal > 0.0 && focal < 1e6))
+            r = vbl_json_fail(ctx, "%s: focal_length = %g mm at frame %d is outside (0, 1e6)", kf, focal, options->frame);
+    }
     vbl_sensor_fit fit = VBL_SENSOR_FIT_AUTO;
     if (!r) {
         if (!strcmp(fit_name, "auto")) fit = VBL_SENSOR_FIT_AUTO;

@@ -17,6 +17,7 @@
 #include "scene/media_emission.h"
 #include "scene/scene_grids.h"
 #include "scene/scene_camera.h"
+#include "scene/scene_keyframes.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"
 
@@ -230,10 +231,12 @@ static vbl_result vbl_parse_transform(const vbl_json_ctx* ctx, const cJSON* item
 }
 
 static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
-                                   const char* field, const char* dir, const char* vdb_override, vbl_medium* medium)
+                                   const char* field, const char* dir, const char* vdb_override,
+                                   const vbl_scene_load_options* options, vbl_medium* medium)
 {
     static const char* const keys[] = {"vdb",       "grid",     "density_scale", "albedo", "phase",
-                                       "transform", "emission", "temperature",   "grid_index", NULL};
+                                       "transform", "emission", "temperature",   "grid_index", "transform_frames",
+                                       NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
@@ -273,6 +276,31 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
         vbl_json_field(tf, sizeof tf, field, "transform");
         if ((r = vbl_parse_transform(ctx, transform, tf, &medium->volume_to_scene, &medium->scene_to_volume)))
             return r;
+    }
+    /* sequences: {"<frame>": 4x4, ...}, interpolated element by element between keyed frames
+     * (exact for translation and scale; rotations between keys are approximate) */
+    const cJSON* tframes = cJSON_GetObjectItemCaseSensitive(obj, "transform_frames");
+    if (tframes && !cJSON_IsObject(tframes))
+        return vbl_json_fail(ctx, "%s.transform_frames must be an object of frames", field);
+    if (tframes && options && options->use_frame) {
+        char tf[512];
+        vbl_json_field(tf, sizeof tf, field, "transform_frames");
+        const cJSON *below = NULL, *above = NULL;
+        double w = 0.0;
+        int found = vbl_keyframes_find(ctx, tframes, tf, NULL, options->frame, &below, &above, &w);
+        if (found < 0) return VBL_ERROR_SCENE;
+        if (found) {
+            vbl_affine a, b, inv;
+            char kf[600];
+            snprintf(kf, sizeof kf, "%s.%s", tf, below->string);
+            if ((r = vbl_parse_transform(ctx, below, kf, &a, &inv))) return r;
+            snprintf(kf, sizeof kf, "%s.%s", tf, above->string);
+            if ((r = vbl_parse_transform(ctx, above, kf, &b, &inv))) return r;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 4; ++j) medium->volume_to_scene.m[i][j] = (1.0 - w) * a.m[i][j] + w * b.m[i][j];
+            if (!vbl_affine_invert(&medium->volume_to_scene, &medium->scene_to_volume))
+                return vbl_json_fail(ctx, "%s at frame %d is singular", tf, options->frame);
+        }
     }
     /* resolve and load the VDB */
     if (vdb_override)
@@ -444,7 +472,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             if ((r = vbl_scene_frame_vdb(ctx.path, field, m, dir, options, &override, framed, sizeof framed)))
                 return r;
             scene->media_count = i + 1; /* so a failure releases what was loaded */
-            if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, &scene->media[i]))) return r;
+            if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, options, &scene->media[i]))) return r;
             if ((r = vbl_parse_medium_emission(&ctx, &colors, m, field, dir, scene, i))) return r;
         }
         scene->media_count = i;
