@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "render/film.h"
+#include "film/film.h"
 #include "render/render_internal.h"
 
 #define VBL_LIGHT_GROUP_SEED_STEP 0x9E3779B97F4A7C15ull
