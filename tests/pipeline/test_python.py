@@ -184,7 +184,7 @@ class TestRender(unittest.TestCase):
         self.assertEqual(beauty.dtype, numpy.float32)
         self.assertEqual(beauty.shape[:2], (12, 16))
         self.assertTrue(numpy.all(numpy.isfinite(beauty)))
-        transport = [n for n in ("emission", "volume_direct", "volume_from_volume") if n in film.layers]
+        transport = [n for n in ("background", "volume_direct", "volume_from_volume") if n in film.layers]
         self.assertTrue(transport, film.layers)
         total = numpy.zeros((12, 16, 3), dtype=numpy.float32)
         for name in transport:  # the documented order: the sum is exact in float

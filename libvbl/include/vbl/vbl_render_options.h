@@ -152,7 +152,13 @@ typedef enum vbl_render_option_effect {
     X(, transmittance_majorant_scale, transmittance_majorant_scale, double, DOUBLE,                          \
       "transmittance_majorant_scale", "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,       \
       "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)")    \
-    F(, cancel, const volatile int*, NULL)
+    F(, cancel, const volatile int*, NULL)                                                                   \
+    X(, transparent, transparent, int, BOOL, "transparent", "--transparent", 0, 0, 1, 0, NULL, HASH,        \
+      "the beauty leaves out the background layer (environment and lights seen directly): a premultiplied " \
+      "element over A; without it A = 1 wherever a background is rendered")                               \
+    X(, light_groups, light_groups, int, BOOL, "light_groups", "--light-groups", 0, 0, 1, 0, NULL, HASH,    \
+      "one beauty layer per light group (lights' \"group\"; untagged lights and emissive media: default); "   \
+      "renders the groups one after another (time x groups)")
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \

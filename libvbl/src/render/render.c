@@ -79,6 +79,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
             acc->L[c][0] += value.L[c].x;
             acc->L[c][1] += value.L[c].y;
             acc->L[c][2] += value.L[c].z;
+            if (!vbl_film_class_in_beauty(c, ctx->options.transparent)) continue; /* variance of the beauty */
             beauty[0] += value.L[c].x;
             beauty[1] += value.L[c].y;
             beauty[2] += value.L[c].z;
@@ -133,6 +134,7 @@ static void vbl_render_fill_stats(const vbl_render_driver* d, vbl_film_stats* st
     stats->threads = d->threads;
     stats->render_seconds = omp_get_wtime() - d->start;
     stats->first_pass = d->options->first_pass;
+    stats->transparent = d->options->transparent != 0;
 }
 
 vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film)
@@ -171,6 +173,9 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         return vbl_error(VBL_ERROR_UNSUPPORTED,
                          "%s: the scene has emissive media, which only method 'pt' renders so far (not '%s')",
                          scene->path, est->name);
+
+    if (options->light_groups && scene->light_group_count > 0)
+        return vbl_render_light_groups(scene, options, est, out_film); /* one render per group */
 
     vbl_render_context ctx;
     memset(&ctx, 0, sizeof ctx);
