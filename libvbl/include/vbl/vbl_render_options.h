@@ -55,6 +55,13 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
+/* pt's random numbers for the pixel position and the light/direction sample dimensions
+ * (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+typedef enum vbl_pt_sampler {
+    VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
+    VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
+} vbl_pt_sampler;
+
 #define VBL_VSL_LIGHTS_DEFAULT 1024
 
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
@@ -181,6 +188,9 @@ typedef enum vbl_render_option_effect {
     X(transmittance_majorant_scale, double, DOUBLE, "transmittance_majorant_scale",                          \
       "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,                                       \
       "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)") \
+    X(pt_sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, 0, 1,       \
+      0, "independent|sobol", HASH,                                                                          \
+      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")   \
     F(cancel, const volatile int*, NULL)
 
 /* ---- the struct, generated ------------------------------------------------------------- */
