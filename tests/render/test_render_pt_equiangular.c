@@ -273,6 +273,18 @@ static void test_scene_file_option(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
     assert_non_null(strstr(vbl_last_error_message(), "render.pt.equiangular"));
+    /* render.pt.sampler: independent | sobol */
+    rt_write_file(dir, "s.json", "{" CAMERA ", \"render\": {\"pt\": {\"sampler\": \"sobol\"}}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+    vbl_render_options so = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(so.pt_sampler, VBL_PT_SAMPLER_INDEPENDENT);
+    assert_int_equal(vbl_scene_render_options(scene, &so), VBL_SUCCESS);
+    assert_int_equal(so.pt_sampler, VBL_PT_SAMPLER_SOBOL);
+    vbl_scene_release(scene);
+    scene = NULL;
+    rt_write_file(dir, "s_bad.json", "{" CAMERA ", \"render\": {\"pt\": {\"sampler\": \"halton\"}}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
+    assert_non_null(strstr(vbl_last_error_message(), "render.pt.sampler"));
     rt_write_file(dir, "bad2.json", "{" CAMERA ", \"render\": {\"pt\": {\"equiangle\": true}}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
     /* render.transmittance_majorant_scale: [1, 64] */
