@@ -65,8 +65,8 @@ static vbl_film* render_pt(const vbl_scene* scene, vbl_pt_sampler sampler, int f
     o.method = VBL_RENDER_PT;
     o.threads = threads;
     o.first_pass = first_pass;
-    o.pt_equiangular = 1;
-    o.pt_sampler = sampler;
+    o.pt.equiangular = 1;
+    o.pt.sampler = sampler;
     vbl_film* film = NULL;
     if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;

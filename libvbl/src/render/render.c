@@ -7,11 +7,11 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "render/film.h"
+#include "film/film.h"
 #include "render/render_internal.h"
 #include "sampling/sobol.h"
-#include "transport/estimator.h"
-#include "transport/pt.h"
+#include "transport/common/estimator.h"
+#include "transport/path_tracing/pt.h"
 
 #define VBL_TILE 16
 
@@ -41,7 +41,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     double pass_beauty[3] = {0.0, 0.0, 0.0};
     double components[VBL_MAX_MEDIA];
     /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
-    const int sobol = ctx->options.pt_sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
+    const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
     const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
     for (int s = 0; s < spp; ++s) {
         vbl_camera_sample cs;
