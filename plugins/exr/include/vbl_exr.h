@@ -101,6 +101,9 @@ const float* vbl_exr_image_channel_pixels(const vbl_exr_image* image, int index)
  * as text (strings as is, numbers with %d / %.17g) and, if `type` is not NULL, its type
  * (-1 for other EXR attribute types, whose text is ""). */
 const char* vbl_exr_image_attribute(const vbl_exr_image* image, const char* name, int* type);
+/* The header attributes other than the required ones, in file order, by index (NULL past the end). */
+int vbl_exr_image_attribute_count(const vbl_exr_image* image);
+const char* vbl_exr_image_attribute_name(const vbl_exr_image* image, int index);
 /* 1 and 8 floats (red, green, blue, white xy) if the file has a chromaticities attribute. */
 int vbl_exr_image_chromaticities(const vbl_exr_image* image, float out[8]);
 

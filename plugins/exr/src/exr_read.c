@@ -400,3 +400,10 @@ int vbl_exr_image_chromaticities(const vbl_exr_image* image, float out[8])
     if (out) memcpy(out, image->chromaticities, sizeof image->chromaticities);
     return 1;
 }
+
+int vbl_exr_image_attribute_count(const vbl_exr_image* image) { return image ? image->attribute_count : 0; }
+
+const char* vbl_exr_image_attribute_name(const vbl_exr_image* image, int index)
+{
+    return image && index >= 0 && index < image->attribute_count ? image->attributes[index].name : NULL;
+}
