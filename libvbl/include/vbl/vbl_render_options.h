@@ -55,6 +55,13 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
+/* pt's random numbers for the pixel position and the light/direction sample dimensions
+ * (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+typedef enum vbl_pt_sampler {
+    VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
+    VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
+} vbl_pt_sampler;
+
 /* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
 typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_RATIO = 0, /* ratio tracking (unbiased) */
@@ -163,7 +170,10 @@ typedef enum vbl_render_option_effect {
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
     X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL,   \
-      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")
+      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
+    X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
+      0, 1, 0, "independent|sobol", HASH,                                                                    \
+      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

@@ -9,7 +9,9 @@
 #include "core/error.h"
 #include "film/film.h"
 #include "render/render_internal.h"
+#include "sampling/sobol.h"
 #include "transport/common/estimator.h"
+#include "transport/path_tracing/pt.h"
 
 #define VBL_TILE 16
 
@@ -38,13 +40,24 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     const int spp = ctx->options.spp;
     double pass_beauty[3] = {0.0, 0.0, 0.0};
     double components[VBL_MAX_MEDIA];
+    /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
+    const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
+    const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
     for (int s = 0; s < spp; ++s) {
         vbl_camera_sample cs;
         cs.px = px;
         cs.py = py;
         cs.pixel_index = pixel_index;
-        cs.sx = px + vbl_rng_uniform(&rng);
-        cs.sy = py + vbl_rng_uniform(&rng);
+        cs.sample_index = (uint32_t)((uint64_t)ctx->pass * (uint64_t)spp + (uint64_t)s);
+        if (sobol) {
+            double u, v;
+            vbl_sobol_pair(pixel_key, cs.sample_index, &u, &v);
+            cs.sx = px + u;
+            cs.sy = py + v;
+        } else {
+            cs.sx = px + vbl_rng_uniform(&rng);
+            cs.sy = py + vbl_rng_uniform(&rng);
+        }
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
         cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
         int surface_hit = 0;
