@@ -102,9 +102,11 @@ typedef enum vbl_render_option_effect {
 /* X(name, c type, type, scene key under "render" (NULL: none), CLI flag (NULL: none), default, min,
  *   max, flags, choices (enum) or NULL, effect, help)
  * F(name, c type, default): a struct field that is not an option (callbacks; `cancel`: may be NULL;
- *   once *cancel is non-zero the pass in progress stops at its next pixel and is dropped, so the
- *   film holds only complete passes; vbl_render then returns VBL_ERROR_INTERRUPTED with the film
- *   of the passes done, NULL if none. While cancel or a time limit is set the driver keeps a copy of
+ *   once *cancel is non-zero the pass in progress stops (light tracing between blocks of 64 paths,
+ *   the beam BVH every 1024 nodes, the camera pass at its next pixel, every 16 samples and every
+ *   256 virtual lights) and is dropped, so the film holds only complete passes; vbl_render then
+ *   returns VBL_ERROR_INTERRUPTED with the film of the passes done, NULL if none. time_limit
+ *   stops a pass the same way, the first one included. While cancel or a time limit is set the driver keeps a copy of
  *   the accumulators of the last complete pass, 256 bytes per pixel).
  * The order is the struct's (ABI): append new options at the end. */
 #define VBL_RENDER_OPTION_LIST(X, F)                                                                         \
@@ -117,7 +119,7 @@ typedef enum vbl_render_option_effect {
     X(seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,            \
       "random seed (scene files: at most 2^53)")                                                             \
     X(time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL, PASSES,          \
-      "seconds: a pass running past it stops at its next pixel and is dropped; the first always completes (0: none)") \
+      "seconds: a pass running past it stops (in light tracing, builds or at a pixel) and is dropped; no pass done: no image (0: none)") \
     X(threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)")     \
     X(max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, NULL,     \
       HASH, "scattering events per path (-1: unlimited)")                                                   \

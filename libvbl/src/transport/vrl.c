@@ -334,6 +334,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     } else {
         const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
         for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+            if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &s->photons.vrls[j];
             if (M >= 0 && l->bounce + 2 > M) continue;
             double weight = 1.0 / S;
