@@ -183,7 +183,9 @@ typedef enum vbl_render_option_effect {
     X(transmittance_majorant_scale, double, DOUBLE, "transmittance_majorant_scale",                          \
       "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,                                       \
       "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)") \
-    F(cancel, const volatile int*, NULL)
+    F(cancel, const volatile int*, NULL)                                                                     \
+    X(min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,                       \
+      "passes that complete even past time_limit (0: the limit holds for the first pass too)")
 
 /* ---- the struct, generated ------------------------------------------------------------- */
 

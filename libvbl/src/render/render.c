@@ -197,7 +197,6 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
-    ctx.deadline = options->time_limit > 0.0 ? start + options->time_limit : 0.0;
     volatile int stop_latch = 0;
     ctx.stop_latch = &stop_latch;
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
@@ -208,9 +207,11 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
      * complete pass from this copy: the film never holds part of a pass. The time limit applies to
      * the first pass too: one stopped there leaves no complete pass and no film. */
     vbl_pixel_accum* backup = NULL;
-    const int stoppable = options->cancel || ctx.deadline > 0.0;
     for (int pass = 0; pass < options->passes; ++pass) {
         double pass_start = omp_get_wtime();
+        /* the first min_passes passes complete whatever the time */
+        ctx.deadline = options->time_limit > 0.0 && passes_done >= options->min_passes ? start + options->time_limit : 0.0;
+        const int stoppable = options->cancel || ctx.deadline > 0.0;
         ctx.pass = (uint32_t)(options->first_pass + pass); /* absolute pass: seeds and radii */
         if (stoppable && vbl_render_stop_requested(&ctx)) {
             if (options->cancel && *options->cancel) cancelled = 1;
@@ -287,7 +288,8 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 break;
             }
         }
-        if (options->time_limit > 0.0 && now - start >= options->time_limit && pass + 1 < options->passes) {
+        if (options->time_limit > 0.0 && now - start >= options->time_limit && pass + 1 < options->passes &&
+            passes_done >= options->min_passes) {
             time_limited = 1;
             break;
         }
