@@ -1,6 +1,6 @@
 /* Stopping outside the camera pass (issue 18 item 4, #13 item 5): the cancel flag and the time
- * limit end light tracing (between blocks of light paths) and the beam BVH build (every 1024
- * nodes) with VBL_ERROR_INTERRUPTED, and the driver then drops the pass, so the film holds the
+ * limit end light tracing (between blocks of light paths), the beam BVH build (every 1024
+ * nodes) and the VRL tree build (every node over 1024 pieces) with VBL_ERROR_INTERRUPTED, and the driver then drops the pass, so the film holds the
  * complete passes bit for bit. Asserted on what the film holds and on what pass_begin returned,
  * never on time: were light tracing not interruptible, the real pass_begin below would return
  * VBL_SUCCESS (after minutes of tracing) and the assertions on its result fail. */
@@ -21,6 +21,7 @@
 #include "transport/beam_bvh.h"
 #include "transport/photon_beams.h"
 #include "transport/vrl.h"
+#include "transport/vrl_tree.h"
 #include "vbl/vbl.h"
 
 #define W 24
@@ -251,6 +252,34 @@ static void test_beam_bvh_build_stops(void** state)
     free(beams);
 }
 
+/* The VRL tree build asks its stop hook at every node over 1024 pieces and ends with
+ * VBL_ERROR_INTERRUPTED and an empty tree; without a hook the same VRLs build. */
+static void test_vrl_tree_build_stops(void** state)
+{
+    (void)state;
+    enum { N = 5000 };
+    vbl_vrl* vrls = calloc(N, sizeof *vrls);
+    assert_non_null(vrls);
+    for (int i = 0; i < N; ++i) {
+        vrls[i].origin = vbl_v3(0.001 * i, 0.0007 * (i % 97), 0.0003 * (i % 31));
+        vrls[i].direction = vbl_v3(0.0, 0.0, 1.0);
+        vrls[i].length = 0.05;
+        vrls[i].power = vbl_v3(1.0, 1.0, 1.0);
+    }
+    vbl_vrl_tree tree;
+    assert_int_equal(vbl_vrl_tree_build(&tree, vrls, N, -1, 1e-3, 0.0, NULL, NULL), VBL_SUCCESS);
+    assert_int_equal(tree.light_count, N);
+    vbl_vrl_tree_free(&tree);
+    g_stop_calls = 0;
+    assert_int_equal(vbl_vrl_tree_build_stoppable(&tree, vrls, N, -1, 1e-3, 0.0, NULL, NULL, stop_after_first, NULL),
+                     VBL_ERROR_INTERRUPTED);
+    assert_int_equal(g_stop_calls, 2);
+    assert_null(tree.nodes);
+    assert_null(tree.pieces);
+    vbl_vrl_tree_free(&tree);
+    free(vrls);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -259,6 +288,7 @@ int main(void)
         cmocka_unit_test(test_other_thread_stops_huge_light_tracing),
         cmocka_unit_test(test_time_limit_stops_first_pass),
         cmocka_unit_test(test_beam_bvh_build_stops),
+        cmocka_unit_test(test_vrl_tree_build_stops),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -103,7 +103,7 @@ typedef enum vbl_render_option_effect {
  *   max, flags, choices (enum) or NULL, effect, help)
  * F(name, c type, default): a struct field that is not an option (callbacks; `cancel`: may be NULL;
  *   once *cancel is non-zero the pass in progress stops (light tracing between blocks of 64 paths,
- *   the beam BVH every 1024 nodes, the camera pass at its next pixel, every 16 samples and every
+ *   the beam BVH every 1024 nodes, the VRL light tree, the camera pass at its next pixel, every 16 samples and every
  *   256 virtual lights) and is dropped, so the film holds only complete passes; vbl_render then
  *   returns VBL_ERROR_INTERRUPTED with the film of the passes done, NULL if none. time_limit
  *   stops a pass the same way, the first one included. While cancel or a time limit is set the driver keeps a copy of
