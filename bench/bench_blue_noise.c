@@ -65,9 +65,9 @@
 
 #include "geometry/surfaces.h"
 #include "scene/scene.h"
-#include "transport/estimator.h"
-#include "transport/photon_trace.h"
-#include "transport/surface_gather.h"
+#include "transport/common/estimator.h"
+#include "transport/common/photon_trace.h"
+#include "transport/surface/surface_gather.h"
 #include "bench_reference.h"
 #include "vbl/vbl.h"
 
@@ -223,10 +223,10 @@ static vbl_render_options config_options(const vbl_scene* scene, const bench_arg
     o.method = c.kind == CFG_PT ? VBL_RENDER_PT : VBL_RENDER_VPL;
     o.spp = c.spp;
     o.light_paths = c.kind == CFG_PT ? 0 : light_paths;
-    o.vpl_clamp_distance = c.kind == CFG_LP_CLAMP ? clamp : 0.0;
-    o.vsl_placement = cfg_is_bn(c.kind) ? VBL_VSL_PLACEMENT_BLUE_NOISE : VBL_VSL_PLACEMENT_LIGHT_PATHS;
-    o.vsl_path_extension = c.kind == CFG_BN_NOEXT ? VBL_VSL_PATH_EXTENSION_OFF : VBL_VSL_PATH_EXTENSION_ON;
-    o.vsl_lights = cfg_is_bn(c.kind) ? c.lights : 0;
+    o.vpl.clamp_distance = c.kind == CFG_LP_CLAMP ? clamp : 0.0;
+    o.vsl.placement = cfg_is_bn(c.kind) ? VBL_VSL_PLACEMENT_BLUE_NOISE : VBL_VSL_PLACEMENT_LIGHT_PATHS;
+    o.vsl.path_extension = c.kind == CFG_BN_NOEXT ? VBL_VSL_PATH_EXTENSION_OFF : VBL_VSL_PATH_EXTENSION_ON;
+    o.vsl.lights = cfg_is_bn(c.kind) ? c.lights : 0;
     return o;
 }
 

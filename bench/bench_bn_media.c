@@ -1,5 +1,5 @@
 /* Issue-8 experiment: camera-driven blue-noise placement of the MEDIUM virtual lights that feed
- * volume_from_volume, against the classic light-path VPLs of the vpl method (transport/vpl.h).
+ * volume_from_volume, against the classic light-path VPLs of the vpl method (transport/virtual_lights/vpl.h).
  *
  *   build/bench/bench_bn_media [--scenes cloud,smoky_room] [--res 96x72] [--threads 2]
  *       [--lights 100,300,1000] [--passes 16] [--budget 30] [--max-seconds 240]
@@ -16,7 +16,7 @@
  *                3.1  M = candidates x N camera sub-paths: a camera ray through a random raster
  *                     position, a delta-tracking free flight to x1, an HG direction, a second
  *                     free flight to y = the candidate (the analogue of the secondary hit);
- *                3.2  weighted sample elimination to N (blue_noise/sample_elimination.h) with the
+ *                3.2  weighted sample elimination to N (transport/surface/blue_noise/sample_elimination.h) with the
  *                     3D analogue of eq 2: d_i = distance to the m-th neighbour,
  *                     V_i = 4/3 pi d_i^3, r_i = cbrt(M V_i / (4 sqrt(2) N m)) (densest sphere
  *                     packing instead of the hexagonal disk packing); light radius R = alpha r;
@@ -53,15 +53,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "blue_noise/kd_tree.h"
-#include "blue_noise/sample_elimination.h"
+#include "transport/surface/blue_noise/kd_tree.h"
+#include "transport/surface/blue_noise/sample_elimination.h"
 #include "geometry/surfaces.h"
 #include "render/render_internal.h"
-#include "scene/media.h"
+#include "media/media.h"
 #include "scene/scene.h"
-#include "transport/estimator.h"
-#include "transport/photon_trace.h"
-#include "transport/vpl.h"
+#include "transport/common/estimator.h"
+#include "transport/common/photon_trace.h"
+#include "transport/virtual_lights/vpl.h"
 #include "bench_reference.h"
 #include "vbl/vbl.h"
 

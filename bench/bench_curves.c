@@ -244,7 +244,7 @@ static void run_one(const vbl_scene* scene, const bench_args* a, const bench_ref
                  o.light_paths);
     else
         snprintf(out->settings, sizeof out->settings, "%s %d passes x spp=%d lp=%d alpha=%g",
-                 vbl_render_method_name(o.method), o.passes, o.spp, o.light_paths, o.vbl_alpha);
+                 vbl_render_method_name(o.method), o.passes, o.spp, o.light_paths, o.beam_lights.alpha);
     vbl_film* film = NULL;
     vbl_result r = vbl_render(scene, &o, &film);
     if (film) vbl_film_release(film);
@@ -386,7 +386,7 @@ int main(int argc, char** argv)
             o.method = method;
             o.spp = bm->spp;
             o.light_paths = bm->light_paths;
-            o.vrl_select = bm->select;
+            o.vrl.select = bm->select;
             if (bs->light_paths[m] < 0) {
                 printf("# %s %s: skipped for this scene (see bench_scenes[])\n", bs->name, bm->label);
                 continue;
@@ -394,8 +394,8 @@ int main(int argc, char** argv)
             if (bs->light_paths[m] > 0) o.light_paths = bs->light_paths[m];
             o.passes = 1 << 30;
             o.seed = 1000003u + 31u * (uint64_t)m;
-            o.vbl_radius0 = a.vbl_radius0;
-            o.vbl_alpha = a.vbl_alpha;
+            o.beam_lights.radius0 = a.vbl_radius0;
+            o.beam_lights.alpha = a.vbl_alpha;
             run_one(scene, &a, &ref, bs->name, &o, a.budget, bm->label, csv, &runs[rc]);
             if (runs[rc].ok) ++rc;
         }

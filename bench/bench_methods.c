@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
-#include "transport/photon_trace.h"
+#include "transport/common/photon_trace.h"
 #include "vbl/vbl.h"
 
 #ifndef VBL_BENCH_DEFAULT_VDB

@@ -23,7 +23,7 @@
 
 typedef struct bench_config {
     const char* name;
-    int equiangular;                    /* options.pt_equiangular (0/1) */
+    int equiangular;                    /* options.pt.equiangular (0/1) */
     vbl_mis_heuristic mis;
     vbl_transmittance_estimator shadow; /* options.transmittance */
     double majorant_scale;              /* options.transmittance_majorant_scale (0: default) */
@@ -103,7 +103,7 @@ int main(int argc, char** argv)
         o.passes = spp;
         o.seed = 1;
         o.threads = threads;
-        o.pt_equiangular = bc->equiangular;
+        o.pt.equiangular = bc->equiangular;
         o.mis = bc->mis;
         o.transmittance = bc->shadow;
         if (bc->majorant_scale > 0.0) o.transmittance_majorant_scale = bc->majorant_scale;

@@ -30,10 +30,10 @@
 
 #include "bench_reference.h"
 #include "scene/scene.h"
-#include "transport/estimator.h"
-#include "transport/photon_trace.h"
-#include "transport/vbl_beams.h"
-#include "transport/vrl.h"
+#include "transport/common/estimator.h"
+#include "transport/common/photon_trace.h"
+#include "transport/virtual_lights/virtual_beam_lights.h"
+#include "transport/virtual_lights/vrl.h"
 #include "vbl/vbl.h"
 
 static int cmp_desc(const void* a, const void* b)
@@ -60,10 +60,10 @@ static vbl_result vrl_begin(const vbl_render_context* ctx, int k, void** store)
 }
 static vbl_result vbl_begin(const vbl_render_context* ctx, int k, void** store)
 {
-    vbl_vbl_settings s;
-    vbl_vbl_settings_from_options(&ctx->options, &s);
+    vbl_beam_light_settings s;
+    vbl_beam_light_settings_from_options(&ctx->options, &s);
     s.select = k;
-    return vbl_vbl_pass_begin_with(ctx, &s, store);
+    return vbl_beam_light_pass_begin_with(ctx, &s, store);
 }
 
 /* Seconds per camera sample over the image (one sample per pixel, pixel streams as the driver). */
@@ -153,15 +153,15 @@ int main(int argc, char** argv)
             double t0 = omp_get_wtime();
             if ((m ? vbl_begin : vrl_begin)(&ctx, 0, &store)) fail();
             double t1 = omp_get_wtime();
-            const vbl_photon_store* ph = m ? vbl_vbl_store_photons(store) : vbl_vrl_store_photons(store);
+            const vbl_photon_store* ph = m ? vbl_beam_light_store_photons(store) : vbl_vrl_store_photons(store);
             size_t n = ph->vrl_count;
-            if (m) vbl_vbl_pass_end(&ctx, store);
+            if (m) vbl_beam_light_pass_end(&ctx, store);
             else vbl_vrl_pass_end(&ctx, store);
             void* tstore = NULL;
             double t2 = omp_get_wtime();
             if ((m ? vbl_begin : vrl_begin)(&ctx, 4, &tstore)) fail();
             double t3 = omp_get_wtime();
-            if (m) vbl_vbl_pass_end(&ctx, tstore);
+            if (m) vbl_beam_light_pass_end(&ctx, tstore);
             else vbl_vrl_pass_end(&ctx, tstore);
             printf("%s pass begin: %zu VRLs, %.4f s (with the light tree %.4f s)\n", m ? "vbl" : "vrl", n, t1 - t0,
                    t3 - t2);
@@ -176,9 +176,9 @@ int main(int argc, char** argv)
                 void* store = NULL;
                 if ((m ? vbl_begin : vrl_begin)(&ctx, k, &store)) fail();
                 double mean = 0.0;
-                double t = time_samples(&ctx, store, m ? vbl_vbl_camera_sample : vbl_vrl_camera_sample, threads, &mean);
+                double t = time_samples(&ctx, store, m ? vbl_beam_light_camera_sample : vbl_vrl_camera_sample, threads, &mean);
                 printf("| %s | %d | %.1f | %.5g |\n", m ? "vbl" : "vrl", k, 1e6 * t, mean);
-                if (m) vbl_vbl_pass_end(&ctx, store);
+                if (m) vbl_beam_light_pass_end(&ctx, store);
                 else vbl_vrl_pass_end(&ctx, store);
             }
         }
@@ -215,7 +215,7 @@ int main(int argc, char** argv)
                                 vbl_rng rng = vbl_rng_make(5, (uint32_t)r, (uint64_t)p);
                                 vbl_sample_value v;
                                 memset(&v, 0, sizeof v);
-                                (m ? vbl_vbl_camera_sample : vbl_vrl_camera_sample)(&ctx, st, &ts, &cs, &rng, &v);
+                                (m ? vbl_beam_light_camera_sample : vbl_vrl_camera_sample)(&ctx, st, &ts, &cs, &rng, &v);
                                 vbl_vec3 f = v.L[VBL_CLASS_VOLUME_FROM_VOLUME];
                                 double x = f.x + f.y + f.z;
                                 s1 += x;
@@ -234,7 +234,7 @@ int main(int argc, char** argv)
                     if (k == 0) base = eff;
                     printf("| %s | %d | %.4g | %.4g | %.1f | %.3g |\n", m ? "vbl" : "vrl", k, rel, smean / np, us,
                            base > 0.0 ? eff / base : NAN);
-                    if (m) vbl_vbl_pass_end(&ctx, st);
+                    if (m) vbl_beam_light_pass_end(&ctx, st);
                     else vbl_vrl_pass_end(&ctx, st);
                 }
                 snprintf(list, sizeof list, "%s", selects);

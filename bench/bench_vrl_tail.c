@@ -32,9 +32,9 @@
 
 #include "bench_reference.h"
 #include "scene/scene.h"
-#include "transport/estimator.h"
-#include "transport/photon_trace.h"
-#include "transport/vrl.h"
+#include "transport/common/estimator.h"
+#include "transport/common/photon_trace.h"
+#include "transport/virtual_lights/vrl.h"
 #include "vbl/vbl.h"
 #include "volume/transmittance_cache.h"
 

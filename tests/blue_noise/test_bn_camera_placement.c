@@ -14,8 +14,8 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/blue_noise_lights.h"
-#include "blue_noise/camera_placement.h"
+#include "transport/surface/blue_noise/blue_noise_lights.h"
+#include "transport/surface/blue_noise/camera_placement.h"
 #include "geometry/surfaces.h"
 #include "scene/scene.h"
 #include "vbl/vbl.h"

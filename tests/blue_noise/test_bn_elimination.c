@@ -14,8 +14,8 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/kd_tree.h"
-#include "blue_noise/sample_elimination.h"
+#include "transport/surface/blue_noise/kd_tree.h"
+#include "transport/surface/blue_noise/sample_elimination.h"
 #include "core/rng.h"
 #include "vbl/vbl.h"
 

@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/gather.h"
+#include "transport/surface/blue_noise/gather.h"
 #include "core/rng.h"
 #include "sampling/phase_hg.h"
 #include "vbl/vbl.h"

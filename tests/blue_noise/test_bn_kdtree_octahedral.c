@@ -11,8 +11,8 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/kd_tree.h"
-#include "blue_noise/octahedral.h"
+#include "transport/surface/blue_noise/kd_tree.h"
+#include "transport/surface/blue_noise/octahedral.h"
 #include "core/rng.h"
 #include "vbl/vbl.h"
 

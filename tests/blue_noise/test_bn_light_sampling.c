@@ -12,8 +12,8 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/light_sampling.h"
-#include "blue_noise/sample_elimination.h"
+#include "transport/surface/blue_noise/light_sampling.h"
+#include "transport/surface/blue_noise/sample_elimination.h"
 #include "core/rng.h"
 #include "vbl/vbl.h"
 

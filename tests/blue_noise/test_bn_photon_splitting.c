@@ -13,8 +13,8 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/photon_splitting.h"
-#include "blue_noise/vsl_export.h"
+#include "transport/surface/blue_noise/photon_splitting.h"
+#include "transport/surface/blue_noise/vsl_export.h"
 #include "core/rng.h"
 #include "vbl/vbl.h"
 

@@ -13,12 +13,12 @@
 
 #include <cmocka.h>
 
-#include "blue_noise/blue_noise_lights.h"
-#include "blue_noise/vsl_export.h"
+#include "transport/surface/blue_noise/blue_noise_lights.h"
+#include "transport/surface/blue_noise/vsl_export.h"
 #include "core/rng.h"
 #include "scene/scene.h"
-#include "blue_noise/photon_paths.h"
-#include "blue_noise/prepare.h"
+#include "transport/surface/blue_noise/photon_paths.h"
+#include "transport/surface/blue_noise/prepare.h"
 #include <omp.h>
 #include "vbl/vbl.h"
 

@@ -275,7 +275,7 @@ static void test_validator_refuses_struct_fields(void** state)
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_render_options_validate(&o), VBL_SUCCESS);
-    o.beams_alpha = 1.0; /* documented (0, 1) everywhere now: the CLI used to take 1 */
+    o.beams.alpha = 1.0; /* documented (0, 1) everywhere now: the CLI used to take 1 */
     assert_int_equal(vbl_render_options_validate(&o), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "beams_alpha = 1 is outside (0, 1)"));
     o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
@@ -283,13 +283,13 @@ static void test_validator_refuses_struct_fields(void** state)
     assert_int_equal(vbl_render_options_validate(&o), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "method = 7 is not one of pt, vpl, vrl, vbl, beams"));
     o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
-    o.vbl_alpha = 0.0; /* ZERO_DEFAULT: the library's stand-in for 0.7 */
-    o.vsl_lights = 0;
-    o.vrl_samples = 0;
+    o.beam_lights.alpha = 0.0; /* ZERO_DEFAULT: the library's stand-in for 0.7 */
+    o.vsl.lights = 0;
+    o.vrl.samples = 0;
     assert_int_equal(vbl_render_options_validate(&o), VBL_SUCCESS);
     assert_int_equal(vbl_render_option_set(&o, "vsl_lights", "0"), VBL_SUCCESS);
     assert_int_equal(vbl_render_option_set_strict(&o, "vsl_lights", "0"), VBL_ERROR_INVALID_ARGUMENT);
-    o.vrl_long = 2;
+    o.vrl.long_vrls = 2;
     assert_int_equal(vbl_render_options_validate(&o), VBL_ERROR_INVALID_ARGUMENT);
     o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
     o.first_pass = 2147483647 - 3;
@@ -306,12 +306,12 @@ static void legacy_hash(const vbl_render_options* op, char out[40])
              "vrl_march_step=%.17g;vrl_prune_radius=%.17g;vrl_prune_min_probability=%.17g;"
              "vpl_clamp_distance=%.17g;vbl_radius0=%.17g;vbl_alpha=%.17g;vbl_single_scattering=%d;"
              "beams_radius0=%.17g;beams_alpha=%.17g;vsl_placement=%d;vsl_path_extension=%d;vsl_lights=%d",
-             op->max_bounces, (int)op->transmittance, (int)op->mis, op->vrl_samples, op->vrl_long,
-             op->vrl_connect_march, op->vrl_march_step, op->vrl_prune_radius, op->vrl_prune_min_probability,
-             op->vpl_clamp_distance, op->vbl_radius0, op->vbl_alpha, (int)op->vbl_single_scattering,
-             op->beams_radius0, op->beams_alpha, (int)op->vsl_placement,
-             op->vsl_path_extension == VBL_VSL_PATH_EXTENSION_OFF ? 0 : 1,
-             op->vsl_lights > 0 ? op->vsl_lights : VBL_VSL_LIGHTS_DEFAULT);
+             op->max_bounces, (int)op->transmittance, (int)op->mis, op->vrl.samples, op->vrl.long_vrls,
+             op->vrl.connect, op->vrl.march_step, op->vrl.prune_radius, op->vrl.prune_min_probability,
+             op->vpl.clamp_distance, op->beam_lights.radius0, op->beam_lights.alpha, (int)op->beam_lights.single_scattering,
+             op->beams.radius0, op->beams.alpha, (int)op->vsl.placement,
+             op->vsl.path_extension == VBL_VSL_PATH_EXTENSION_OFF ? 0 : 1,
+             op->vsl.lights > 0 ? op->vsl.lights : VBL_VSL_LIGHTS_DEFAULT);
     uint64_t h = 0xcbf29ce484222325ull;
     for (const char* p = text; *p; ++p) h = (h ^ (unsigned char)*p) * 0x100000001b3ull;
     snprintf(out, 40, "fnv1a64:%016llx", (unsigned long long)h);
@@ -325,27 +325,27 @@ static void test_options_hash_matches_files_before_the_table(void** state)
     legacy_hash(&o, want);
     vbl_render_options_hash(&o, got, sizeof got);
     assert_string_equal(got, want);
-    o.vsl_lights = 0; /* the old default spelling hashes as 1024 */
+    o.vsl.lights = 0; /* the old default spelling hashes as 1024 */
     vbl_render_options_hash(&o, got, sizeof got);
     assert_string_equal(got, want);
     o.max_bounces = 5;
     o.transmittance = VBL_TRANSMITTANCE_DELTA_TRACKING;
     o.mis = VBL_MIS_BALANCE;
-    o.vrl_samples = 3;
-    o.vrl_long = 1;
-    o.vrl_connect_march = 1;
-    o.vrl_march_step = 0.125;
-    o.vrl_prune_radius = 0.3;
-    o.vrl_prune_min_probability = 0.2;
-    o.vpl_clamp_distance = 0.01;
-    o.vbl_radius0 = 0.05;
-    o.vbl_alpha = 0.6;
-    o.vbl_single_scattering = VBL_SINGLE_SCATTERING_BEAMS;
-    o.beams_radius0 = 0.02;
-    o.beams_alpha = 0.8;
-    o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-    o.vsl_path_extension = VBL_VSL_PATH_EXTENSION_OFF;
-    o.vsl_lights = 77;
+    o.vrl.samples = 3;
+    o.vrl.long_vrls = 1;
+    o.vrl.connect = 1;
+    o.vrl.march_step = 0.125;
+    o.vrl.prune_radius = 0.3;
+    o.vrl.prune_min_probability = 0.2;
+    o.vpl.clamp_distance = 0.01;
+    o.beam_lights.radius0 = 0.05;
+    o.beam_lights.alpha = 0.6;
+    o.beam_lights.single_scattering = VBL_SINGLE_SCATTERING_BEAMS;
+    o.beams.radius0 = 0.02;
+    o.beams.alpha = 0.8;
+    o.vsl.placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+    o.vsl.path_extension = VBL_VSL_PATH_EXTENSION_OFF;
+    o.vsl.lights = 77;
     o.passes = 99; /* not hashed: passes, seed, spp, ... */
     o.seed = 42;
     o.threads = 3;
@@ -370,7 +370,7 @@ static void test_defaults_agree(void** state)
         vbl_render_options c = VBL_RENDER_OPTIONS_DEFAULT;
         c.passes = 3;
         c.method = VBL_RENDER_VRL;
-        c.vbl_alpha = 0.5;
+        c.beam_lights.alpha = 0.5;
         assert_int_equal(vbl_render_option_set(&c, d->name, text), VBL_SUCCESS);
         char back[256];
         assert_int_equal(vbl_render_option_get(&c, d->name, back, sizeof back), VBL_SUCCESS);

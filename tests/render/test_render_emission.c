@@ -14,7 +14,7 @@
 
 #include "render_test_util.h"
 #include "material/material.h"
-#include "scene/media_emission.h"
+#include "media/media_emission.h"
 #include "vbl/vbl.h"
 #include "volume/blackbody.h"
 

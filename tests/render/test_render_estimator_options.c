@@ -41,19 +41,19 @@ static void test_defaults(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-    assert_int_equal(o.vrl_samples, 1);
-    assert_int_equal(o.vrl_long, 0);
-    assert_int_equal(o.vrl_connect_march, 0);
-    assert_true(o.vrl_prune_radius == 0.0);
-    assert_true(o.vrl_prune_min_probability == 0.1);
-    assert_true(o.vpl_clamp_distance == 0.0);
+    assert_int_equal(o.vrl.samples, 1);
+    assert_int_equal(o.vrl.long_vrls, 0);
+    assert_int_equal(o.vrl.connect, 0);
+    assert_true(o.vrl.prune_radius == 0.0);
+    assert_true(o.vrl.prune_min_probability == 0.1);
+    assert_true(o.vpl.clamp_distance == 0.0);
     vbl_scene* scene = NULL;
     assert_int_equal(load_text("d.json", "{" CAMERA ", \"render\": {\"method\": \"vrl\"}}", &scene), VBL_SUCCESS);
     memset(&o, 0, sizeof o);
     o.size = sizeof o;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-    assert_int_equal(o.vrl_samples, 1);
-    assert_true(o.vrl_prune_min_probability == 0.1);
+    assert_int_equal(o.vrl.samples, 1);
+    assert_true(o.vrl.prune_min_probability == 0.1);
     vbl_scene_release(scene);
 }
 
@@ -72,14 +72,14 @@ static void test_parse_fields(void** state)
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
     assert_int_equal(o.method, VBL_RENDER_VRL);
     assert_int_equal(o.light_paths, 50);
-    assert_int_equal(o.vrl_samples, 3);
-    assert_int_equal(o.vrl_long, 1);
-    assert_int_equal(o.vrl_connect_march, 1);
-    assert_true(o.vrl_march_step == 0.05);
-    assert_true(o.vrl_prune_radius == 0.25);
-    assert_true(o.vrl_prune_min_probability == 0.05);
-    assert_true(o.vpl_clamp_distance == 0.1);
-    assert_int_equal(o.vrl_select, 8);
+    assert_int_equal(o.vrl.samples, 3);
+    assert_int_equal(o.vrl.long_vrls, 1);
+    assert_int_equal(o.vrl.connect, 1);
+    assert_true(o.vrl.march_step == 0.05);
+    assert_true(o.vrl.prune_radius == 0.25);
+    assert_true(o.vrl.prune_min_probability == 0.05);
+    assert_true(o.vpl.clamp_distance == 0.1);
+    assert_int_equal(o.vrl.select, 8);
     vbl_scene_release(scene);
 
     assert_int_equal(load_text("ok2.json",
@@ -87,10 +87,10 @@ static void test_parse_fields(void** state)
                      VBL_SUCCESS);
     o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-    assert_int_equal(o.vrl_long, 0);
-    assert_int_equal(o.vrl_connect_march, 0);
-    assert_int_equal(o.vrl_samples, 1);
-    assert_int_equal(o.vrl_select, 0);
+    assert_int_equal(o.vrl.long_vrls, 0);
+    assert_int_equal(o.vrl.connect, 0);
+    assert_int_equal(o.vrl.samples, 1);
+    assert_int_equal(o.vrl.select, 0);
     vbl_scene_release(scene);
 }
 
@@ -126,30 +126,30 @@ static void test_render_validates(void** state)
     base.threads = 1;
     vbl_film* film = NULL;
     vbl_render_options o = base;
-    o.vrl_samples = -1;
+    o.vrl.samples = -1;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vrl_samples"));
     o = base;
-    o.vrl_prune_min_probability = 2.0;
+    o.vrl.prune_min_probability = 2.0;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vrl_prune_min_probability"));
     o = base;
-    o.vpl_clamp_distance = -1.0;
+    o.vpl.clamp_distance = -1.0;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vpl_clamp_distance"));
     o = base;
-    o.vrl_long = 2;
+    o.vrl.long_vrls = 2;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     o = base;
-    o.vrl_select = -3;
+    o.vrl.select = -3;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vrl_select"));
     assert_null(film);
     /* zeros in the new fields (initializers older than them) are the defaults */
     o = base;
     o.method = VBL_RENDER_VRL;
-    o.vrl_samples = 0;
-    o.vrl_prune_min_probability = 0.0;
+    o.vrl.samples = 0;
+    o.vrl.prune_min_probability = 0.0;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
     vbl_film_release(film);
     vbl_scene_release(scene);

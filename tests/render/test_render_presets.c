@@ -46,8 +46,8 @@ static void test_each_preset_sets_settings(void** state)
         o.passes = -5;
         o.spp = -5;
         o.light_paths = -5;
-        o.vbl_alpha = -1.0;
-        o.vbl_radius0 = -1.0;
+        o.beam_lights.alpha = -1.0;
+        o.beam_lights.radius0 = -1.0;
         /* fields presets leave alone */
         o.seed = 1234;
         o.threads = 3;
@@ -61,8 +61,8 @@ static void test_each_preset_sets_settings(void** state)
         assert_true(o.passes >= 1);
         assert_true(o.spp >= 1);
         assert_true(o.light_paths >= 0);
-        assert_true(o.vbl_alpha > 0.0 && o.vbl_alpha < 1.0);
-        assert_true(o.vbl_radius0 >= 0.0);
+        assert_true(o.beam_lights.alpha > 0.0 && o.beam_lights.alpha < 1.0);
+        assert_true(o.beam_lights.radius0 >= 0.0);
         if (o.method != VBL_RENDER_PT) assert_true(o.light_paths >= 1);
         assert_int_equal(o.seed, 1234);
         assert_int_equal(o.threads, 3);
@@ -86,10 +86,10 @@ static void test_overrides_after_preset_win(void** state)
         o.passes = preset.passes + 3;
         o.light_paths = preset.light_paths + 7;
         o.method = preset.method == VBL_RENDER_VRL ? VBL_RENDER_VPL : VBL_RENDER_VRL;
-        o.vbl_alpha = 0.55;
+        o.beam_lights.alpha = 0.55;
         assert_int_equal(o.passes, preset.passes + 3);
         assert_int_equal(o.light_paths, preset.light_paths + 7);
-        assert_true(o.vbl_alpha == 0.55);
+        assert_true(o.beam_lights.alpha == 0.55);
         /* the same preset applied again restores its values (it is a function of the name only) */
         assert_int_equal(vbl_render_options_apply_preset(presets[i], &o), VBL_SUCCESS);
         assert_memory_equal(&o, &preset, sizeof o);

@@ -15,7 +15,7 @@
 #include "quad.h"
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/single_scatter.h"
+#include "transport/common/single_scatter.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
 
@@ -248,7 +248,7 @@ static void single_scatter_case(int point)
                  {"pt max_bounces=1, equiangular off", 1, NULL, "volume_direct", 0}};
     for (int k = 0; k < 4; ++k) {
         vbl_render_options o = options_for(2, 32, runs[k].max_bounces, 100 + k);
-        o.pt_equiangular = runs[k].pt_equiangular;
+        o.pt.equiangular = runs[k].pt_equiangular;
         vbl_film* film = NULL;
         if (runs[k].est)
             assert_int_equal(vbl_render_with_estimator(scene, &o, runs[k].est, &film), VBL_SUCCESS);

@@ -1,4 +1,4 @@
-/* pt's equiangular NEE (transport/pt_equiangular.h): pt with and without it agree on every layer
+/* pt's equiangular NEE (transport/path_tracing/pt_equiangular.h): pt with and without it agree on every layer
  * (image means of K independent renders each, within Z_CRIT standard errors of the difference) in
  * a heterogeneous medium among Lambert surfaces lit by a point light inside the medium, a spot
  * light and a distant light; the mid-bound control optical depth is exact in homogeneous media and
@@ -17,7 +17,7 @@
 #include "render_test_util.h"
 #include "scene/scene.h"
 #include "surface_render_util.h"
-#include "transport/pt.h"
+#include "transport/path_tracing/pt.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 #include "volume/control_depth.h"
@@ -61,7 +61,7 @@ static vbl_film* render_pt(const vbl_scene* scene, int equiangular, int passes, 
     o.threads = threads;
     o.transmittance_majorant_scale = g_majorant_scale;
     o.max_bounces = -1;
-    o.pt_equiangular = equiangular;
+    o.pt.equiangular = equiangular;
     vbl_film* film = NULL;
     if (vbl_render_with_estimator(scene, &o, &vbl_estimator_pt, &film) != VBL_SUCCESS)
         fail_msg("render: %s", vbl_last_error_message());
@@ -220,7 +220,7 @@ static void test_scene_file_option(void** state)
         assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
         vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
         assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-        assert_int_equal(o.pt_equiangular, want[i]);
+        assert_int_equal(o.pt.equiangular, want[i]);
         vbl_scene_release(scene);
     }
     rt_write_file(dir, "bad.json", "{" CAMERA ", \"render\": {\"pt\": {\"equiangular\": 1}}}", path);
@@ -244,10 +244,10 @@ static void test_scene_file_option(void** state)
     /* the API refuses values outside the enum */
     eq_case c = make_case(1);
     vbl_render_options o = tt_options(1, 1, 0, 1);
-    o.pt_equiangular = 3;
+    o.pt.equiangular = 3;
     vbl_film* film = NULL;
     assert_int_equal(vbl_render(c.scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
-    o.pt_equiangular = 1;
+    o.pt.equiangular = 1;
     o.transmittance_majorant_scale = 0.5;
     assert_int_equal(vbl_render(c.scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     vbl_scene_release(c.scene);

@@ -18,10 +18,10 @@
 
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/beam_bvh.h"
-#include "transport/photon_beams.h"
-#include "transport/vrl.h"
-#include "transport/vrl_tree.h"
+#include "transport/photon_beams/beam_bvh.h"
+#include "transport/photon_beams/photon_beams.h"
+#include "transport/virtual_lights/vrl.h"
+#include "transport/virtual_lights/vrl_tree.h"
 #include "vbl/vbl.h"
 
 #define W 24

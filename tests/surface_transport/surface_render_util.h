@@ -11,7 +11,7 @@
 #include "material/material.h"
 #include "render/render_internal.h"
 #include "scene/scene.h"
-#include "transport/estimator.h"
+#include "transport/common/estimator.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 

@@ -10,7 +10,7 @@
 #include "material/material.h"
 #include "quad.h"
 #include "sampling/vsl_cone.h"
-#include "transport/surface_cone_kernel.h"
+#include "transport/surface/surface_cone_kernel.h"
 
 static inline vbl_material st_material(int which)
 {

@@ -1,5 +1,5 @@
 /* render.vsl_placement = blue_noise: surface_from_surface of vpl/vrl/vbl from the blue-noise
- * virtual lights (surface_gather.h, blue_noise/prepare.h, blue_noise/gather.h).
+ * virtual lights (surface_gather.h, transport/surface/blue_noise/prepare.h, transport/surface/blue_noise/gather.h).
  *
  * Scene: an open-front Lambert box [-1, 1]^3 (albedo 0.6, a green back wall) lit by a point light
  * near its ceiling, seen from outside through the open front.
@@ -34,10 +34,10 @@
 #include "material/material.h"
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/photon_trace.h"
-#include "transport/surface_gather.h"
-#include "transport/vpl.h"
-#include "transport/vrl.h"
+#include "transport/common/photon_trace.h"
+#include "transport/surface/surface_gather.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "surface_render_util.h"
 #include "vbl/vbl.h"
@@ -71,8 +71,8 @@ static vbl_film* render(const vbl_scene* s, vbl_render_method method, int placem
     vbl_render_options o = tt_options(passes, spp, paths, seed);
     o.method = method;
     o.threads = threads;
-    o.vsl_placement = placement;
-    o.vsl_lights = paths; /* blue noise: N = paths lights per pass */
+    o.vsl.placement = placement;
+    o.vsl.lights = paths; /* blue noise: N = paths lights per pass */
     vbl_film* film = NULL;
     if (vbl_render(s, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
@@ -101,17 +101,17 @@ static void test_options(void** state)
     char dir[256], path[512], expected[1024];
     rt_make_temp_dir(dir);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
+    assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
     vbl_scene* scene = NULL;
     rt_write_file(dir, "bn.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"blue_noise\"}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_BLUE_NOISE);
+    assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_BLUE_NOISE);
     vbl_scene_release(scene);
     rt_write_file(dir, "lp.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"light_paths\"}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-    assert_int_equal(o.vsl_placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
+    assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
     vbl_scene_release(scene);
     scene = NULL;
     rt_write_file(dir, "bad.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"camera\"}}", path);
@@ -130,24 +130,24 @@ static void test_options(void** state)
     vbl_render_options b = tt_options(1, 1, 16, 1);
     b.method = VBL_RENDER_VPL;
     vbl_film* f = NULL;
-    b.vsl_placement = 2;
+    b.vsl.placement = 2;
     assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vsl_placement"));
-    b.vsl_placement = -1;
+    b.vsl.placement = -1;
     assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
     /* vsl_path_extension: 0 default, 1 on, 2 off; anything else names the field */
-    b.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-    b.vsl_path_extension = 3;
+    b.vsl.placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+    b.vsl.path_extension = 3;
     assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "vsl_path_extension"));
-    b.vsl_path_extension = -1;
+    b.vsl.path_extension = -1;
     assert_int_equal(vbl_render(box, &b, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
     vbl_scene_release(box);
     /* the scene key render.vsl_path_extension: true | false */
     rt_make_temp_dir(dir);
-    assert_int_equal(o.vsl_path_extension, VBL_VSL_PATH_EXTENSION_DEFAULT);
+    assert_int_equal(o.vsl.path_extension, VBL_VSL_PATH_EXTENSION_DEFAULT);
     const char* values[2] = {"false", "true"};
     const int expect[2] = {VBL_VSL_PATH_EXTENSION_OFF, VBL_VSL_PATH_EXTENSION_ON};
     for (int i = 0; i < 2; ++i) {
@@ -158,7 +158,7 @@ static void test_options(void** state)
         scene = NULL;
         assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
         assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
-        assert_int_equal(o.vsl_path_extension, expect[i]);
+        assert_int_equal(o.vsl.path_extension, expect[i]);
         vbl_scene_release(scene);
     }
     scene = NULL;
@@ -217,9 +217,9 @@ static vbl_film* render_ext(const vbl_scene* s, int extension, int passes, int s
     vbl_render_options o = tt_options(passes, spp, paths, seed);
     o.method = VBL_RENDER_VPL;
     o.threads = threads;
-    o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-    o.vsl_path_extension = extension;
-    o.vsl_lights = paths;
+    o.vsl.placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+    o.vsl.path_extension = extension;
+    o.vsl.lights = paths;
     vbl_film* film = NULL;
     if (vbl_render(s, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
@@ -371,8 +371,8 @@ static void test_media_against_pt(void** state)
     double rmae[2], merr[2];
     for (int i = 0; i < 2; ++i) {
         vbl_render_options o = tt_options(PASSES, SPP, lights[i], 212 + (uint64_t)i);
-        o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-        o.vsl_lights = lights[i];
+        o.vsl.placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+        o.vsl.lights = lights[i];
         vbl_estimator est = vbl_estimator_vpl;
         est.pass_begin = vpl_surface_only_begin;
         vbl_film* f = NULL;
@@ -408,8 +408,8 @@ static void test_media_volume_from_surface(void** state)
     double rmae[2], merr[2];
     for (int i = 0; i < 2; ++i) {
         vbl_render_options o = tt_options(2 * PASSES, SPP, lights[i], 242 + (uint64_t)i);
-        o.vsl_placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
-        o.vsl_lights = lights[i];
+        o.vsl.placement = VBL_VSL_PLACEMENT_BLUE_NOISE;
+        o.vsl.lights = lights[i];
         vbl_estimator est = vbl_estimator_vpl;
         est.pass_begin = vpl_surface_only_begin;
         vbl_film* f = NULL;
@@ -482,12 +482,12 @@ static void test_corner_darkening(void** state)
     /* (b) light-path point VSLs with the classic distance clamp 1/max(w^2, c^2), c = 0.25 */
     vbl_render_options o = tt_options(PASSES, SPP, 400, 601);
     o.method = VBL_RENDER_VPL;
-    o.vpl_clamp_distance = CORNER_CLAMP;
+    o.vpl.clamp_distance = CORNER_CLAMP;
     vbl_film* f = NULL;
     assert_int_equal(vbl_render(s, &o, &f), VBL_SUCCESS);
     const double lp = corner_sum(f);
     vbl_film_release(f);
-    o.vpl_clamp_distance = 0.0; /* the same VSLs unclamped, for the record */
+    o.vpl.clamp_distance = 0.0; /* the same VSLs unclamped, for the record */
     assert_int_equal(vbl_render(s, &o, &f), VBL_SUCCESS);
     const double lp0 = corner_sum(f);
     vbl_film_release(f);

@@ -1,4 +1,4 @@
-/* Surface caustics by progressive photon mapping (transport/surface_caustics.h).
+/* Surface caustics by progressive photon mapping (transport/surface/surface_caustics.h).
  *
  * Scene: a Lambert floor (z = -1), a tilted Phong mirror (centre (1, 0, 0.5), normal
  * (-1, 0, -1)/sqrt 2) lit by a spot light aimed at it from (-1, 0, -0.5): the mirror throws a
@@ -6,7 +6,7 @@
  * sphere medium sits out of view (photon tracing needs media).
  *
  * Fast (no argument):
- *   - the highly specular predicate is blue_noise/camera_placement.c's rule;
+ *   - the highly specular predicate is transport/surface/blue_noise/camera_placement.c's rule;
  *   - the kernel integrates to 1 over the disc; the hash-grid gather equals a brute-force sum
  *     (cells smaller / larger than R, scan fallback); finite at tiny R; a uniform photon field
  *     gives the expected radiance;
@@ -27,18 +27,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "blue_noise/camera_placement.h"
+#include "transport/surface/blue_noise/camera_placement.h"
 #include "core/rng.h"
 #include "material/material.h"
-#include "render/radius_schedule.h"
+#include "transport/common/radius_schedule.h"
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/photon_trace.h"
-#include "transport/pt.h"
-#include "transport/surface_caustics.h"
-#include "transport/surface_gather.h"
-#include "transport/vpl.h"
-#include "transport/vrl.h"
+#include "transport/common/photon_trace.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/surface/surface_caustics.h"
+#include "transport/surface/surface_gather.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "surface_render_util.h"
 #include "vbl/vbl.h"

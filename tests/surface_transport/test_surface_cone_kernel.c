@@ -13,7 +13,7 @@
 #include "core/rng.h"
 #include "quad.h"
 #include "surface_test_util.h"
-#include "transport/surface_cone_kernel.h"
+#include "transport/surface/surface_cone_kernel.h"
 
 typedef struct pair_case {
     const char* label;

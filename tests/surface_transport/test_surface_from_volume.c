@@ -13,9 +13,9 @@
 #include "chi2.h"
 #include "core/rng.h"
 #include "quad.h"
-#include "render/radius_schedule.h"
+#include "transport/common/radius_schedule.h"
 #include "surface_test_util.h"
-#include "transport/surface_from_volume.h"
+#include "transport/surface/surface_from_volume.h"
 
 static vbl_surface_vrl vrl_config(int c)
 {
@@ -56,7 +56,7 @@ static double integrand(double v, void* c)
     vbl_vec3 k;
     if (r->radius > 0.0) {
         const double j[3] = {0.5, 0.5, 0.5};
-        k = vbl_vbl_surface_kernel(r->sp, r->vrl, v, r->radius, r->n, j);
+        k = vbl_beam_light_surface_kernel(r->sp, r->vrl, v, r->radius, r->n, j);
     } else {
         k = vbl_vrl_surface_integrand(r->sp, r->vrl, v);
     }

@@ -12,9 +12,9 @@
 #include "core/rng.h"
 #include "quad.h"
 #include "surface_test_util.h"
-#include "transport/surface_from_volume.h"
-#include "transport/surface_line_sampler.h"
-#include "transport/surface_vsl.h"
+#include "transport/surface/surface_from_volume.h"
+#include "transport/surface/surface_line_sampler.h"
+#include "transport/surface/surface_vsl.h"
 
 #define NBINS 40
 #define NSAMPLES 60000L

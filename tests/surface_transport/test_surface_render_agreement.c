@@ -16,7 +16,7 @@
  *     (VRL contributions are heavy-tailed, so each replicate averages 16 passes);
  *   - radius classes (vrl surface VSLs, R_0 = 0.5, eq 11): the block-RMS error against pt of
  *     surface_from_surface and of volume_from_surface falls from 1 pass to 24 passes; the same
- *     for surface_from_volume by VBL eqs 8-9 (what vbl_beams.c gets), R_0 = 0.5. */
+ *     for surface_from_volume by VBL eqs 8-9 (what virtual_beam_lights.c gets), R_0 = 0.5. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -28,15 +28,15 @@
 #include <string.h>
 
 #include "material/material.h"
-#include "render/radius_schedule.h"
+#include "transport/common/radius_schedule.h"
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/photon_trace.h"
-#include "transport/pt.h"
-#include "transport/surface_gather.h"
-#include "transport/vpl.h"
-#include "transport/vbl_beams.h"
-#include "transport/vrl.h"
+#include "transport/common/photon_trace.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/surface/surface_gather.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/virtual_beam_lights.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "surface_render_util.h"
 #include "vbl/vbl.h"
@@ -105,7 +105,7 @@ static vbl_result vrl_r05_begin(const vbl_render_context* ctx, void** store)
 }
 static const vbl_estimator vrl_r05 = {"vrl-r05", 1, vrl_r05_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
 
-/* What vbl_beams.c gets (the lines handed to the lead): surface_from_volume by VBL eqs 8-9 with
+/* What virtual_beam_lights.c gets (the lines handed to the lead): surface_from_volume by VBL eqs 8-9 with
  * R_p from R_0 = 0.5 (eq 11) on the VRL store, and in the volume_direct slot the unbiased eq 6
  * estimate from the SAME store (the photon noise, which dominates, then cancels in the
  * difference, so the radius bias shows). */

@@ -12,9 +12,9 @@
 #include "chi2.h"
 #include "core/rng.h"
 #include "quad.h"
-#include "render/radius_schedule.h"
+#include "transport/common/radius_schedule.h"
 #include "surface_test_util.h"
-#include "transport/surface_vsl.h"
+#include "transport/surface/surface_vsl.h"
 
 static vbl_material g_mat[3];
 

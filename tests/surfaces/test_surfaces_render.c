@@ -22,7 +22,7 @@
 #include "render_test_util.h"
 #include "scene/scene.h"
 #include "material/material.h"
-#include "transport/single_scatter.h"
+#include "transport/common/single_scatter.h"
 #include "vbl/vbl.h"
 
 static vbl_material lambert(double a)

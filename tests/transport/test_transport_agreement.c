@@ -15,9 +15,9 @@
 #include <string.h>
 
 #include "render_test_util.h"
-#include "transport/pt.h"
-#include "transport/vpl.h"
-#include "transport/vrl.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"

@@ -1,7 +1,7 @@
 /* The estimator settings of vbl_render_options reach vrl and vpl through the render context:
  * with the same seed, changing vrl_samples / vrl_prune_radius / vrl_long changes the
  * volume_from_volume layer, vpl_clamp_distance darkens it pixel by pixel (it only lowers
- * 1/w^2 and draws the same random numbers), and pruned vrl (options.vrl_prune_radius > 0, the
+ * 1/w^2 and draws the same random numbers), and pruned vrl (options.vrl.prune_radius > 0, the
  * scene-file route) still agrees with pt (block z-test as in test_transport_agreement; run with
  * the argument `agree`, labelled slow). */
 #include <setjmp.h>
@@ -14,9 +14,9 @@
 #include <string.h>
 
 #include "render_test_util.h"
-#include "transport/pt.h"
-#include "transport/vpl.h"
-#include "transport/vrl.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
@@ -61,24 +61,24 @@ static void test_options_change_estimators(void** state)
     double base = from_volume_mean(scene, &o, NULL);
     assert_true(base > 0.0);
     vbl_render_options v = o;
-    v.vrl_samples = 3;
+    v.vrl.samples = 3;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
     v = o;
-    v.vrl_prune_radius = 0.05;
-    v.vrl_prune_min_probability = 0.3;
+    v.vrl.prune_radius = 0.05;
+    v.vrl.prune_min_probability = 0.3;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
     v = o;
-    v.vrl_long = 1;
+    v.vrl.long_vrls = 1;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
     v = o;
-    v.vrl_connect_march = 1;
+    v.vrl.connect = 1;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
 
     /* vpl clamping: every pixel darker or equal, the image clearly darker */
     static float a[8 * 8 * 3], b[8 * 8 * 3];
     o.method = VBL_RENDER_VPL;
     double unclamped = from_volume_mean(scene, &o, a);
-    o.vpl_clamp_distance = 1.0;
+    o.vpl.clamp_distance = 1.0;
     double clamped = from_volume_mean(scene, &o, b);
     printf("vpl from_volume mean: unclamped %.5g, clamp 1.0: %.5g\n", unclamped, clamped);
     for (int i = 0; i < 8 * 8 * 3; ++i) assert_true(b[i] <= a[i] * (1.0f + 1e-6f) + 1e-12f);
@@ -95,9 +95,9 @@ static void test_pruned_vrl_agrees_with_pt(void** state)
     vbl_render_options o = tt_options(4, 32, 0, 101);
     tt_replicate(scene, &vbl_estimator_pt, &o, 10, 4, &ref);
     o = tt_options(2, 1, 400, 202);
-    o.vrl_prune_radius = 0.1;
-    o.vrl_prune_min_probability = 0.05;
-    o.vrl_samples = 2;
+    o.vrl.prune_radius = 0.1;
+    o.vrl.prune_min_probability = 0.05;
+    o.vrl.samples = 2;
     tt_replicate(scene, &vbl_estimator_vrl, &o, 10, 4, &got);
     assert_true(ref.finite && got.finite);
     double image_z = 0.0;

@@ -1,4 +1,4 @@
-/* The `vbl` method (virtual beam lights, media-to-media, transport/vbl_beams.h).
+/* The `vbl` method (virtual beam lights, media-to-media, transport/virtual_lights/virtual_beam_lights.h).
  *
  * Default group (quick): determinism at 1 vs 2 threads through the method registry; finite films at
  * the extremes (R0 = 1e-9 x and 10 x the scene, g = +-0.999, VRLs parallel to camera rays, camera
@@ -24,11 +24,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/radius_schedule.h"
+#include "transport/common/radius_schedule.h"
 #include "render_test_util.h"
-#include "transport/pt.h"
-#include "transport/vbl_beams.h"
-#include "transport/vrl.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/virtual_lights/virtual_beam_lights.h"
+#include "transport/virtual_lights/vrl.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
@@ -102,13 +102,13 @@ static void test_bad_options(void** state)
     vbl_render_options o = tt_options(1, 1, 4, 1);
     o.method = VBL_RENDER_VBL;
     vbl_film* f = NULL;
-    o.vbl_alpha = 1.5;
+    o.beam_lights.alpha = 1.5;
     assert_int_equal(vbl_render(s, &o, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
-    o.vbl_alpha = 0.0;
-    o.vbl_radius0 = -1.0;
+    o.beam_lights.alpha = 0.0;
+    o.beam_lights.radius0 = -1.0;
     assert_int_equal(vbl_render(s, &o, &f), VBL_ERROR_INVALID_ARGUMENT);
-    o.vbl_radius0 = INFINITY;
+    o.beam_lights.radius0 = INFINITY;
     assert_int_equal(vbl_render(s, &o, &f), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(f);
     vbl_scene_release(s);
@@ -139,10 +139,10 @@ static void test_scene_block(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-    assert_true(o.vbl_radius0 == 0.0 && o.vbl_alpha == 0.0);
+    assert_true(o.beam_lights.radius0 == 0.0 && o.beam_lights.alpha == 0.0);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
     assert_int_equal(o.method, VBL_RENDER_VBL);
-    assert_true(o.vbl_radius0 == 0.25 && o.vbl_alpha == 0.5);
+    assert_true(o.beam_lights.radius0 == 0.25 && o.beam_lights.alpha == 0.5);
     vbl_scene_release(scene);
     expect_scene_error(dir, "{\"vbl\": {\"alpha\": 1}}", "render.vbl.alpha = 1 is outside (0, 1)");
     expect_scene_error(dir, "{\"vbl\": {\"alpha\": 0}}", "render.vbl.alpha = 0 is outside (0, 1)");
@@ -160,7 +160,7 @@ static void extreme(double radius0, double g, vbl_vec3 cam, vbl_vec3 target, int
     if (light == 2) tt_add_point(s, target, 10.0); /* camera rays through the light: h -> 0 */
     vbl_render_options o = tt_options(3, 1, 30, 11);
     o.method = VBL_RENDER_VBL;
-    o.vbl_radius0 = radius0;
+    o.beam_lights.radius0 = radius0;
     vbl_film* f = render_method(s, o);
     double sum = layer_sum(f, "volume_from_volume", 64);
     printf("extreme R0 %g g %g light %d: volume_from_volume sum %g\n", radius0, g, light, sum);
@@ -187,12 +187,12 @@ static void test_extremes(void** state)
 
 /* ---- equal-count variance at a fixed radius ------------------------------------------- */
 
-static vbl_vbl_settings g_fixed;
+static vbl_beam_light_settings g_fixed;
 static vbl_result fixed_pass_begin(const vbl_render_context* ctx, void** store)
 {
-    return vbl_vbl_pass_begin_with(ctx, &g_fixed, store);
+    return vbl_beam_light_pass_begin_with(ctx, &g_fixed, store);
 }
-static const vbl_estimator fixed_vbl = {"vbl-fixed", 1, fixed_pass_begin, vbl_vbl_camera_sample, vbl_vbl_pass_end};
+static const vbl_estimator fixed_vbl = {"vbl-fixed", 1, fixed_pass_begin, vbl_beam_light_camera_sample, vbl_beam_light_pass_end};
 
 /* Mean over pixels of the per-pixel variance of volume_from_volume (mean of RGB) over K seeds. */
 static double pixel_variance(const vbl_scene* s, const vbl_estimator* est, int K, int res, double* mean_out)
@@ -232,7 +232,7 @@ static void test_variance_vs_vrl(void** state)
     /* a narrow spot beam across the view through the box centre: VRLs close to the camera rays,
      * forward-peaked phase at both ends */
     tt_add_spot(s, vbl_v3(-3.0, 0.2, 0.15), vbl_v3(1, 0, 0), 200.0, 2.0, 4.0);
-    vbl_vbl_settings fixed = VBL_VBL_SETTINGS_DEFAULT;
+    vbl_beam_light_settings fixed = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
     fixed.alpha = 1.0;
     fixed.radius0 = 0.05 * 2.25 * sqrt(3.0);
     g_fixed = fixed;
@@ -257,7 +257,7 @@ static void test_small_radius_matches_vrl(void** state)
     vbl_volume* vol;
     vbl_scene* s = box_scene(vbl_v3(0.2, -4, 0.3), vbl_v3(0.125, 0.125, 0.125), 1.0, 0.9, 0.5, &vol, 8);
     tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
-    vbl_vbl_settings fixed = VBL_VBL_SETTINGS_DEFAULT;
+    vbl_beam_light_settings fixed = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
     fixed.alpha = 1.0;
     fixed.radius0 = 1e-3 * 2.25;
     g_fixed = fixed;
@@ -289,10 +289,10 @@ static void test_default_radius_keeps_energy(void** state)
     tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
     vbl_render_options o = tt_options(2, 2, 200, 2300);
     o.method = VBL_RENDER_VBL;
-    if (getenv("VBL_TEST_R0")) o.vbl_radius0 = atof(getenv("VBL_TEST_R0"));
+    if (getenv("VBL_TEST_R0")) o.beam_lights.radius0 = atof(getenv("VBL_TEST_R0"));
     tt_stats a, b;
     tt_replicate(s, &vbl_estimator_vbl, &o, 6, 4, &a);
-    o.vbl_radius0 = 1e-3;
+    o.beam_lights.radius0 = 1e-3;
     tt_replicate(s, &vbl_estimator_vbl, &o, 6, 4, &b);
     assert_true(a.finite && b.finite);
     const int L = 1; /* tt layer index of volume_from_volume */
@@ -320,11 +320,11 @@ static void cv_error(const vbl_scene* s, const double* ref, int P, double r0, do
         vbl_film* f = NULL;
         if (alpha < 1.0) {
             o.method = VBL_RENDER_VBL;
-            o.vbl_radius0 = r0;
-            o.vbl_alpha = alpha;
+            o.beam_lights.radius0 = r0;
+            o.beam_lights.alpha = alpha;
             f = render_method(s, o);
         } else {
-            vbl_vbl_settings fixed = VBL_VBL_SETTINGS_DEFAULT;
+            vbl_beam_light_settings fixed = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
             fixed.alpha = 1.0;
             fixed.radius0 = r0;
             g_fixed = fixed;

@@ -1,4 +1,4 @@
-/* Per-camera-ray VRL selection from the light tree (transport/vrl_tree.h; vrl and vbl with
+/* Per-camera-ray VRL selection from the light tree (transport/virtual_lights/vrl_tree.h; vrl and vbl with
  * select = K > 0).
  *
  * 1. Selection pdf: on 300 synthetic VRLs (some excluded: too many bounces, zero power, zero
@@ -29,10 +29,10 @@
 #include "chi2.h"
 #include "core/rng.h"
 #include "render_test_util.h"
-#include "transport/photon_trace.h"
-#include "transport/vbl_beams.h"
-#include "transport/vrl.h"
-#include "transport/vrl_tree.h"
+#include "transport/common/photon_trace.h"
+#include "transport/virtual_lights/virtual_beam_lights.h"
+#include "transport/virtual_lights/vrl.h"
+#include "transport/virtual_lights/vrl_tree.h"
 #include "volume/transmittance_cache.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
@@ -173,12 +173,12 @@ static vbl_result vrl_begin(const vbl_render_context* ctx, int select, void** st
 
 static vbl_result vbl_begin(const vbl_render_context* ctx, int select, void** store)
 {
-    vbl_vbl_settings s = VBL_VBL_SETTINGS_DEFAULT;
+    vbl_beam_light_settings s = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
     s.select = select;
     s.radius0 = 0.05;
     s.alpha = 1.0;
     s.kernel_samples = 4;
-    return vbl_vbl_pass_begin_with(ctx, &s, store);
+    return vbl_beam_light_pass_begin_with(ctx, &s, store);
 }
 
 static void same_store(const char* tag, begin_fn begin, sample_fn sample, void (*end)(const vbl_render_context*, void*),
@@ -251,10 +251,10 @@ static void test_same_store_vrl(void** state)
 static void test_same_store_vbl(void** state)
 {
     (void)state;
-    same_store("vbl", vbl_begin, vbl_vbl_camera_sample, vbl_vbl_pass_end, vbl_store_photons);
+    same_store("vbl", vbl_begin, vbl_beam_light_camera_sample, vbl_beam_light_pass_end, vbl_store_photons);
 }
 
-static const vbl_photon_store* vbl_store_photons(const void* store) { return vbl_vbl_store_photons(store); }
+static const vbl_photon_store* vbl_store_photons(const void* store) { return vbl_beam_light_store_photons(store); }
 
 int main(void)
 {

@@ -55,6 +55,12 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
+/* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
+typedef enum vbl_vrl_connect {
+    VBL_VRL_CONNECT_RATIO = 0, /* ratio tracking (unbiased) */
+    VBL_VRL_CONNECT_MARCH = 1  /* ray marching (biased) */
+} vbl_vrl_connect;
+
 #define VBL_VSL_LIGHTS_DEFAULT 1024
 
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
@@ -99,106 +105,172 @@ typedef enum vbl_render_option_effect {
                                       table; newer ones enter the hash only when not at their default, so
                                       adding an option keeps old files mergeable) */
 
-/* X(name, c type, type, scene key under "render" (NULL: none), CLI flag (NULL: none), default, min,
- *   max, flags, choices (enum) or NULL, effect, help)
- * F(name, c type, default): a struct field that is not an option (callbacks; `cancel`: may be NULL;
- *   once *cancel is non-zero the pass in progress stops (light tracing between blocks of 64 paths,
- *   the beam BVH every 1024 nodes, the VRL light tree, the camera pass at its next pixel, every 16 samples and every
- *   256 virtual lights) and is dropped, so the film holds only complete passes; vbl_render then
- *   returns VBL_ERROR_INTERRUPTED with the film of the passes done, NULL if none. time_limit
- *   stops a pass the same way, the first one included. While cancel or a time limit is set the driver keeps a copy of
- *   the accumulators of the last complete pass, 256 bytes per pixel).
- * The order is the struct's (ABI): append new options at the end. */
-#define VBL_RENDER_OPTION_LIST(X, F)                                                                         \
-    X(method, vbl_render_method, ENUM, "method", "--method", VBL_RENDER_PT, 0, 4, 0,                         \
+/* The table is one list per group: the common options, then one per method (or family), each
+ * becoming a nested struct of vbl_render_options (options.vrl.samples, options.beams.radius0, ...).
+ *
+ * X(member prefix, name, member, c type, type, scene key under "render" (NULL: none), CLI flag (NULL:
+ *   none), default, min, max, flags, choices (enum) or NULL, effect, help)
+ *   - member prefix: empty for the common options, `group.` for a group's (`vrl.`): the field is
+ *     options.<prefix><member> (options.passes, options.vrl.samples);
+ *   - name: the option's stable name (reflection, vbl:options_hash, messages): "vrl_samples".
+ * F(member prefix, member, c type, default): a struct field that is not an option (callbacks; `cancel`:
+ *   may be NULL; once *cancel is non-zero the pass in progress stops (light tracing between blocks of
+ *   64 paths, the beam BVH every 1024 nodes, the VRL light tree, the camera pass at its next pixel,
+ *   every 16 samples and every 256 virtual lights) and is dropped, so the film holds only complete
+ *   passes; vbl_render then returns VBL_ERROR_INTERRUPTED with the film of the passes done, NULL if
+ *   none. time_limit stops a pass the same way, the first one included. While cancel or a time limit is set the driver keeps a copy
+ *   of the accumulators of the last complete pass, 256 bytes per pixel).
+ * The order in each list is its struct's (ABI): append new options at the end of their group's list. */
+#define VBL_RENDER_OPTIONS_COMMON(X, F)                                                                      \
+    X(, method, method, vbl_render_method, ENUM, "method", "--method", VBL_RENDER_PT, 0, 4, 0,               \
       "pt|vpl|vrl|vbl|beams", IDENTITY, "rendering method")                                                 \
-    X(passes, int, INT, "passes", "--passes", 16, 1, 1e9, 0, NULL, PASSES, "independent progressive passes") \
-    X(spp, int, INT, "spp", "--spp", 4, 1, 1e6, 0, NULL, IDENTITY, "camera samples per pixel per pass")      \
-    X(light_paths, int, INT, "light_paths", "--light-paths", 10000, 0, 2e9, 0, NULL, IDENTITY,               \
+    X(, passes, passes, int, INT, "passes", "--passes", 16, 1, 1e9, 0, NULL, PASSES,                         \
+      "independent progressive passes")                                                                      \
+    X(, spp, spp, int, INT, "spp", "--spp", 4, 1, 1e6, 0, NULL, IDENTITY, "camera samples per pixel per pass") \
+    X(, light_paths, light_paths, int, INT, "light_paths", "--light-paths", 10000, 0, 2e9, 0, NULL, IDENTITY, \
       "light paths per pass (vpl, vrl, vbl)")                                                                \
-    X(seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,            \
+    X(, seed, seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,    \
       "random seed (scene files: at most 2^53)")                                                             \
-    X(time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL, PASSES,          \
+    X(, time_limit, time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL,     \
+      PASSES,                                                                                                \
       "seconds: a pass running past it stops (in light tracing, builds or at a pixel) and is dropped; no pass done: no image (0: none)") \
-    X(threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)")     \
-    X(max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, NULL,     \
-      HASH, "scattering events per path (-1: unlimited)")                                                   \
-    X(transmittance, vbl_transmittance_estimator, ENUM, "transmittance", "--transmittance",                 \
+    X(, threads, threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)") \
+    X(, max_bounces, max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, \
+      NULL, HASH, "scattering events per path (-1: unlimited)")                                             \
+    X(, transmittance, transmittance, vbl_transmittance_estimator, ENUM, "transmittance", "--transmittance", \
       VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 5, VBL_OPTION_HASH_ALWAYS,                                        \
       "delta|ratio|residual|march|cached-delta|cached-ratio", HASH,                                          \
       "transmittance estimator of shadow rays and camera rays")                                              \
-    X(mis, vbl_mis_heuristic, ENUM, "mis", "--mis", VBL_MIS_POWER, 0, 1, VBL_OPTION_HASH_ALWAYS,            \
+    X(, mis, mis, vbl_mis_heuristic, ENUM, "mis", "--mis", VBL_MIS_POWER, 0, 1, VBL_OPTION_HASH_ALWAYS,      \
       "power|balance", HASH, "multiple importance sampling heuristic")                                       \
-    F(callback, vbl_render_pass_callback, NULL)                                                              \
-    F(callback_user_data, void*, NULL)                                                                       \
-    X(vrl_samples, int, INT, "vrl.samples", "--vrl-samples", 1, 1, 1e6,                                      \
+    F(, callback, vbl_render_pass_callback, NULL)                                                            \
+    F(, callback_user_data, void*, NULL)                                                                     \
+    X(, first_pass, first_pass, int, INT, NULL, NULL, 0, 0, 2147483647.0, 0, NULL, PASSES,                   \
+      "absolute index of the first pass (split rendering: vbl render --pass-range)")                        \
+    X(, transmittance_majorant_scale, transmittance_majorant_scale, double, DOUBLE,                          \
+      "transmittance_majorant_scale", "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,       \
+      "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)")    \
+    F(, cancel, const volatile int*, NULL)                                                                   \
+    X(, min_passes, min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,         \
+      "passes that complete even past time_limit (0: the limit holds for the first pass too)")
+
+/* pt: options.pt */
+#define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
+    X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL,   \
+      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")
+
+/* vpl: options.vpl */
+#define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
+    X(vpl., vpl_clamp_distance, clamp_distance, double, DOUBLE, "vpl.clamp_distance", "--vpl-clamp-distance", \
+      0.0, 0, INFINITY, VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                                  \
+      "vpl: 1/w^2 -> 1/max(w^2, c^2) in world units (biased; 0: off)")
+
+/* vrl (the VRL options also apply to vbl's VRLs): options.vrl */
+#define VBL_RENDER_OPTIONS_VRL(X, F)                                                                         \
+    X(vrl., vrl_samples, samples, int, INT, "vrl.samples", "--vrl-samples", 1, 1, 1e6,                       \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                          \
       "vrl: (u, v) samples per VRL / camera-ray pair")                                                       \
-    X(vrl_long, int, BOOL, "vrl.long", "--vrl-long", 0, 0, 1, VBL_OPTION_HASH_ALWAYS, NULL, HASH,           \
-      "vrl: long VRLs (to the media exit, cached transmittance)")                                            \
-    X(vrl_connect_march, int, ENUM, "vrl.connect", "--vrl-connect", 0, 0, 1, VBL_OPTION_HASH_ALWAYS,        \
-      "ratio|march", HASH, "vrl: VRL-to-camera-ray transmittance by ratio tracking or ray marching (biased)") \
-    X(vrl_march_step, double, DOUBLE, "vrl.march_step", "--vrl-march-step", 0.0, 0, INFINITY,                \
-      VBL_OPTION_HASH_ALWAYS, NULL, HASH, "vrl: march step in world units for connect = march (0: adaptive)") \
-    X(vrl_prune_radius, double, DOUBLE, "vrl.prune_radius", "--vrl-prune-radius", 0.0, 0, INFINITY,         \
-      VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                                                    \
+    X(vrl., vrl_long, long_vrls, int, BOOL, "vrl.long", "--vrl-long", 0, 0, 1, VBL_OPTION_HASH_ALWAYS, NULL, \
+      HASH, "vrl: long VRLs (to the media exit, cached transmittance)")                                      \
+    X(vrl., vrl_connect_march, connect, vbl_vrl_connect, ENUM, "vrl.connect", "--vrl-connect",               \
+      VBL_VRL_CONNECT_RATIO, 0, 1, VBL_OPTION_HASH_ALWAYS, "ratio|march", HASH,                              \
+      "vrl: VRL-to-camera-ray transmittance by ratio tracking or ray marching (biased)")                     \
+    X(vrl., vrl_march_step, march_step, double, DOUBLE, "vrl.march_step", "--vrl-march-step", 0.0, 0,        \
+      INFINITY, VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                                          \
+      "vrl: march step in world units for connect = march (0: adaptive)")                                   \
+    X(vrl., vrl_prune_radius, prune_radius, double, DOUBLE, "vrl.prune_radius", "--vrl-prune-radius", 0.0, 0, \
+      INFINITY, VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                                          \
       "vrl: Russian-roulette pruning radius, a fraction of the media's bounding radius (0: off)")           \
-    X(vrl_prune_min_probability, double, DOUBLE, "vrl.prune_min_probability", "--vrl-prune-min-probability", \
-      0.1, 0, 1, VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,         \
+    X(vrl., vrl_prune_min_probability, prune_min_probability, double, DOUBLE, "vrl.prune_min_probability",   \
+      "--vrl-prune-min-probability", 0.1, 0, 1,                                                              \
+      VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
       "vrl: floor of the pruning survival probability")                                                      \
-    X(vpl_clamp_distance, double, DOUBLE, "vpl.clamp_distance", "--vpl-clamp-distance", 0.0, 0, INFINITY,   \
-      VBL_OPTION_HASH_ALWAYS, NULL, HASH, "vpl: 1/w^2 -> 1/max(w^2, c^2) in world units (biased; 0: off)")   \
-    X(vbl_radius0, double, DOUBLE, "vbl.radius0", "--vbl-radius0", 0.0, 0, INFINITY,                         \
+    X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,            \
+      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)")
+
+/* vbl (virtual beam lights): options.beam_lights */
+#define VBL_RENDER_OPTIONS_BEAM_LIGHTS(X, F)                                                                 \
+    X(beam_lights., vbl_radius0, radius0, double, DOUBLE, "vbl.radius0", "--vbl-radius0", 0.0, 0, INFINITY,  \
       VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
       "vbl: initial VSL radius in world units (default 0: from the scene's size and the VRL density)")      \
-    X(vbl_alpha, double, DOUBLE, "vbl.alpha", "--vbl-alpha", 0.0, 0, 1,                                      \
+    X(beam_lights., vbl_alpha, alpha, double, DOUBLE, "vbl.alpha", "--vbl-alpha", 0.0, 0, 1,                 \
       VBL_OPTION_MIN_OPEN | VBL_OPTION_MAX_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL,    \
       HASH, "vbl: radius reduction per pass (default 0: 0.7)")                                              \
-    X(first_pass, int, INT, NULL, NULL, 0, 0, 2147483647.0, 0, NULL, PASSES,                                 \
-      "absolute index of the first pass (split rendering: vbl render --pass-range)")                        \
-    X(vbl_single_scattering, vbl_single_scattering, ENUM, "vbl.single_scattering", "--vbl-single-scattering", \
-      VBL_SINGLE_SCATTERING_DEFAULT, 0, 2, VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS,                 \
-      "default|equiangular|beams", HASH, "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")     \
-    X(beams_radius0, double, DOUBLE, "beams.radius0", "--beams-radius0", 0.0, 0, INFINITY,                   \
+    X(beam_lights., vbl_single_scattering, single_scattering, vbl_single_scattering, ENUM,                   \
+      "vbl.single_scattering", "--vbl-single-scattering", VBL_SINGLE_SCATTERING_DEFAULT, 0, 2,               \
+      VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, "default|equiangular|beams", HASH,                   \
+      "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")
+
+/* beams (progressive photon beams, also vbl's beam single scattering): options.beams */
+#define VBL_RENDER_OPTIONS_BEAMS(X, F)                                                                       \
+    X(beams., beams_radius0, radius0, double, DOUBLE, "beams.radius0", "--beams-radius0", 0.0, 0, INFINITY,  \
       VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
       "beams (and vbl with beam single scattering): initial beam half-width in world units "                 \
       "(default 0: from the scene and the beam density)")                                                    \
-    X(beams_alpha, double, DOUBLE, "beams.alpha", "--beams-alpha", 0.0, 0, 1,                                \
+    X(beams., beams_alpha, alpha, double, DOUBLE, "beams.alpha", "--beams-alpha", 0.0, 0, 1,                 \
       VBL_OPTION_MIN_OPEN | VBL_OPTION_MAX_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL,    \
-      HASH, "beams: width reduction per pass (default 0: 0.7)")                                             \
-    X(vsl_placement, vbl_vsl_placement, ENUM, "vsl_placement", "--vsl-placement",                            \
+      HASH, "beams: width reduction per pass (default 0: 0.7)")
+
+/* Surface VSLs of vpl, vrl and vbl (surface_from_surface): options.vsl */
+#define VBL_RENDER_OPTIONS_VSL(X, F)                                                                         \
+    X(vsl., vsl_placement, placement, vbl_vsl_placement, ENUM, "vsl_placement", "--vsl-placement",           \
       VBL_VSL_PLACEMENT_LIGHT_PATHS, 0, 1, VBL_OPTION_HASH_ALWAYS, "light_paths|blue_noise", HASH,           \
       "vpl, vrl, vbl: surface VSLs for surface_from_surface from light paths or camera-driven blue noise")   \
-    X(vsl_path_extension, vbl_vsl_path_extension, ENUM, "vsl_path_extension", "--vsl-path-extension",        \
-      VBL_VSL_PATH_EXTENSION_DEFAULT, 0, 2,                                                                   \
+    X(vsl., vsl_path_extension, path_extension, vbl_vsl_path_extension, ENUM, "vsl_path_extension",          \
+      "--vsl-path-extension", VBL_VSL_PATH_EXTENSION_DEFAULT, 0, 2,                                           \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_JSON_BOOL | VBL_OPTION_HASH_ALWAYS, "default|on|off", HASH,       \
       "blue_noise: the adaptive camera path extension (default: on)")                                        \
-    X(vsl_lights, int, INT, "vsl_lights", "--vsl-lights", VBL_VSL_LIGHTS_DEFAULT, 1, 1e7,                    \
+    X(vsl., vsl_lights, lights, int, INT, "vsl_lights", "--vsl-lights", VBL_VSL_LIGHTS_DEFAULT, 1, 1e7,      \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                                          \
-      "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")         \
-    X(vrl_select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,                          \
-      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)")\
-    X(pt_equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL, HASH,              \
-      "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")        \
-    X(transmittance_majorant_scale, double, DOUBLE, "transmittance_majorant_scale",                          \
-      "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,                                       \
-      "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)") \
-    F(cancel, const volatile int*, NULL)                                                                     \
-    X(min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,                       \
-      "passes that complete even past time_limit (0: the limit holds for the first pass too)")
+      "blue_noise: virtual lights per pass (from 10 N camera candidates, lit by 10 N light paths)")
 
-/* ---- the struct, generated ------------------------------------------------------------- */
+/* Every option, in table order (descriptors, --help, the docs table): the groups in struct order. */
+#define VBL_RENDER_OPTION_LIST(X, F)                                                                         \
+    VBL_RENDER_OPTIONS_COMMON(X, F)                                                                          \
+    VBL_RENDER_OPTIONS_PT(X, F)                                                                              \
+    VBL_RENDER_OPTIONS_VPL(X, F)                                                                             \
+    VBL_RENDER_OPTIONS_VRL(X, F)                                                                             \
+    VBL_RENDER_OPTIONS_BEAM_LIGHTS(X, F)                                                                     \
+    VBL_RENDER_OPTIONS_BEAMS(X, F)                                                                           \
+    VBL_RENDER_OPTIONS_VSL(X, F)
 
-#define VBL_RENDER_OPTION_FIELD_(name, ctype, ...) ctype name;
-#define VBL_RENDER_PLAIN_FIELD_(name, ctype, def) ctype name;
+/* ---- the structs, generated ------------------------------------------------------------ */
+
+#define VBL_RENDER_OPTION_FIELD_(prefix, name, member, ctype, ...) ctype member;
+#define VBL_RENDER_PLAIN_FIELD_(prefix, member, ctype, def) ctype member;
+typedef struct vbl_pt_options {
+    VBL_RENDER_OPTIONS_PT(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_pt_options;
+typedef struct vbl_vpl_options {
+    VBL_RENDER_OPTIONS_VPL(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_vpl_options;
+typedef struct vbl_vrl_options {
+    VBL_RENDER_OPTIONS_VRL(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_vrl_options;
+typedef struct vbl_beam_light_options {
+    VBL_RENDER_OPTIONS_BEAM_LIGHTS(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_beam_light_options;
+typedef struct vbl_photon_beam_options {
+    VBL_RENDER_OPTIONS_BEAMS(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_photon_beam_options;
+typedef struct vbl_vsl_options {
+    VBL_RENDER_OPTIONS_VSL(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+} vbl_vsl_options;
+
 typedef struct vbl_render_options {
     size_t size; /* sizeof(vbl_render_options) */
-    VBL_RENDER_OPTION_LIST(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+    VBL_RENDER_OPTIONS_COMMON(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
+    vbl_pt_options pt;
+    vbl_vpl_options vpl;
+    vbl_vrl_options vrl;
+    vbl_beam_light_options beam_lights; /* method vbl */
+    vbl_photon_beam_options beams;      /* method beams */
+    vbl_vsl_options vsl;
 } vbl_render_options;
 
 /* Designated initializer of the table's defaults:  vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT; */
-#define VBL_RENDER_OPTION_INIT_(name, ctype, type, key, flag, def, ...) , .name = (def)
-#define VBL_RENDER_PLAIN_INIT_(name, ctype, def) , .name = (def)
+#define VBL_RENDER_OPTION_INIT_(prefix, name, member, ctype, type, key, flag, def, ...) , .prefix member = (def)
+#define VBL_RENDER_PLAIN_INIT_(prefix, member, ctype, def) , .prefix member = (def)
 #define VBL_RENDER_OPTIONS_DEFAULT \
     {.size = sizeof(vbl_render_options) VBL_RENDER_OPTION_LIST(VBL_RENDER_OPTION_INIT_, VBL_RENDER_PLAIN_INIT_)}
 
@@ -211,7 +283,7 @@ VBL_API vbl_result vbl_render_options_validate(const vbl_render_options* options
 /* ---- reflection (bindings, tools, docs) ------------------------------------------------ */
 
 typedef struct vbl_render_option_info {
-    const char* name;      /* struct field: "vbl_alpha" */
+    const char* name;      /* the option's name: "vbl_alpha" (the field options.beam_lights.alpha) */
     const char* key;       /* scene file key under "render": "vbl.alpha"; NULL: not in scene files */
     const char* flag;      /* `vbl render` flag: "--vbl-alpha"; NULL: none */
     vbl_render_option_type type;

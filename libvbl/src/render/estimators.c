@@ -1,10 +1,10 @@
-/* Method -> estimator table. vpl and vrl plug in here (transport/vpl.h, transport/vrl.h). */
-#include "transport/estimator.h"
-#include "transport/photon_beams.h"
-#include "transport/pt.h"
-#include "transport/vbl_beams.h"
-#include "transport/vpl.h"
-#include "transport/vrl.h"
+/* Method -> estimator table. vpl and vrl plug in here (transport/virtual_lights/vpl.h, transport/virtual_lights/vrl.h). */
+#include "transport/common/estimator.h"
+#include "transport/photon_beams/photon_beams.h"
+#include "transport/path_tracing/pt.h"
+#include "transport/virtual_lights/virtual_beam_lights.h"
+#include "transport/virtual_lights/vpl.h"
+#include "transport/virtual_lights/vrl.h"
 
 const vbl_estimator* vbl_estimator_for(vbl_render_method method)
 {

@@ -16,7 +16,7 @@
 #define VBL_OPT_TYPE_NAME_BOOL "bool"
 #define VBL_OPT_TYPE_NAME_ENUM "enum"
 
-#define VBL_OPT_DESC_(name, ctype, type, key, flag, def, lo, hi, flags, choices, effect, help)              \
+#define VBL_OPT_DESC_(prefix, name, member, ctype, type, key, flag, def, lo, hi, flags, choices, effect, help)              \
     {#name, key, flag, VBL_OPTION_##type, VBL_OPT_TYPE_NAME_##type, (double)(def), (double)(lo), (double)(hi), \
      (flags), choices, VBL_OPTION_EFFECT_##effect, help},
 static const vbl_render_option_info vbl_option_descs[VBL_OPT_COUNT] = {
@@ -27,8 +27,8 @@ static const vbl_render_option_info vbl_option_descs[VBL_OPT_COUNT] = {
 double vbl_option_number(const vbl_render_options* o, int index)
 {
     switch (index) {
-#define VBL_OPT_GET_(name, ...) \
-    case VBL_OPT_##name: return (double)o->name;
+#define VBL_OPT_GET_(prefix, name, member, ...) \
+    case VBL_OPT_##name: return (double)o->prefix member;
         VBL_RENDER_OPTION_LIST(VBL_OPT_GET_, VBL_OPT_SKIP_)
     default: return 0.0;
     }
@@ -37,8 +37,8 @@ double vbl_option_number(const vbl_render_options* o, int index)
 static void vbl_option_store(vbl_render_options* o, int index, double v)
 {
     switch (index) {
-#define VBL_OPT_SET_(name, ctype, ...) \
-    case VBL_OPT_##name: o->name = (ctype)v; break;
+#define VBL_OPT_SET_(prefix, name, member, ctype, ...) \
+    case VBL_OPT_##name: o->prefix member = (ctype)v; break;
         VBL_RENDER_OPTION_LIST(VBL_OPT_SET_, VBL_OPT_SKIP_)
     default: break;
     }
@@ -58,8 +58,8 @@ static void vbl_option_store(vbl_render_options* o, int index, double v)
 static uint64_t vbl_option_u64(const vbl_render_options* o, int index)
 {
     switch (index) {
-#define VBL_OPT_GET_U64_(name, ctype, type, ...) \
-    case VBL_OPT_##name: return (uint64_t)VBL_OPT_U64_##type(o->name);
+#define VBL_OPT_GET_U64_(prefix, name, member, ctype, type, ...) \
+    case VBL_OPT_##name: return (uint64_t)VBL_OPT_U64_##type(o->prefix member);
         VBL_RENDER_OPTION_LIST(VBL_OPT_GET_U64_, VBL_OPT_SKIP_)
     default: return 0;
     }
@@ -68,8 +68,8 @@ static uint64_t vbl_option_u64(const vbl_render_options* o, int index)
 static void vbl_option_store_u64(vbl_render_options* o, int index, uint64_t v)
 {
     switch (index) {
-#define VBL_OPT_SET_U64_(name, ctype, type, ...) \
-    case VBL_OPT_##name: VBL_OPT_U64_SET_##type(o->name, ctype, v) break;
+#define VBL_OPT_SET_U64_(prefix, name, member, ctype, type, ...) \
+    case VBL_OPT_##name: VBL_OPT_U64_SET_##type(o->prefix member, ctype, v) break;
         VBL_RENDER_OPTION_LIST(VBL_OPT_SET_U64_, VBL_OPT_SKIP_)
     default: break;
     }
@@ -329,7 +329,22 @@ void vbl_render_options_hash(const vbl_render_options* o, char* out, size_t size
     char text[8192];
     size_t len = 0;
     text[0] = 0;
-    for (int i = 0; o && i < VBL_OPT_COUNT; ++i) {
+    /* The options older than the grouped table in their old (flat) order, then the others in table
+     * order: files written before the groups keep their hash. */
+    static const int legacy[] = {VBL_OPT_max_bounces, VBL_OPT_transmittance, VBL_OPT_mis, VBL_OPT_vrl_samples,
+                                 VBL_OPT_vrl_long, VBL_OPT_vrl_connect_march, VBL_OPT_vrl_march_step,
+                                 VBL_OPT_vrl_prune_radius, VBL_OPT_vrl_prune_min_probability,
+                                 VBL_OPT_vpl_clamp_distance, VBL_OPT_vbl_radius0, VBL_OPT_vbl_alpha,
+                                 VBL_OPT_vbl_single_scattering, VBL_OPT_beams_radius0, VBL_OPT_beams_alpha,
+                                 VBL_OPT_vsl_placement, VBL_OPT_vsl_path_extension, VBL_OPT_vsl_lights,
+                                 VBL_OPT_vrl_select, VBL_OPT_pt_equiangular, VBL_OPT_transmittance_majorant_scale};
+    enum { n_legacy = (int)(sizeof legacy / sizeof legacy[0]) };
+    int order[VBL_OPT_COUNT], n = 0, seen[VBL_OPT_COUNT] = {0};
+    for (int k = 0; k < n_legacy; ++k) order[n++] = legacy[k], seen[legacy[k]] = 1;
+    for (int i = 0; i < VBL_OPT_COUNT; ++i)
+        if (!seen[i]) order[n++] = i;
+    for (int k = 0; o && k < n; ++k) {
+        const int i = order[k];
         const vbl_render_option_info* d = &vbl_option_descs[i];
         if (d->effect != VBL_OPTION_EFFECT_HASH) continue;
         double v = vbl_option_number(o, i);

@@ -9,8 +9,8 @@
 #include "vbl/vbl_render.h"
 
 /* Option indices in table order: VBL_OPT_method, VBL_OPT_passes, ... */
-#define VBL_OPT_INDEX_(name, ...) VBL_OPT_##name,
-#define VBL_OPT_SKIP_(name, ctype, def)
+#define VBL_OPT_INDEX_(prefix, name, ...) VBL_OPT_##name,
+#define VBL_OPT_SKIP_(prefix, member, ctype, def)
 enum { VBL_RENDER_OPTION_LIST(VBL_OPT_INDEX_, VBL_OPT_SKIP_) VBL_OPT_COUNT };
 
 /* On failure the check and assign calls write the reason as it follows the option's name in a

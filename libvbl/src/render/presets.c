@@ -40,8 +40,8 @@ vbl_result vbl_render_options_apply_preset(const char* preset, vbl_render_option
         options->passes = p->passes;
         options->spp = p->spp;
         options->light_paths = p->light_paths;
-        options->vbl_alpha = p->vbl_alpha;
-        options->vbl_radius0 = 0.0;
+        options->beam_lights.alpha = p->vbl_alpha;
+        options->beam_lights.radius0 = 0.0;
         options->transmittance = p->transmittance;
         return VBL_SUCCESS;
     }

@@ -7,9 +7,9 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "render/film.h"
+#include "film/film.h"
 #include "render/render_internal.h"
-#include "transport/estimator.h"
+#include "transport/common/estimator.h"
 
 #define VBL_TILE 16
 

@@ -2,7 +2,7 @@
 #ifndef VBL_RENDER_RENDER_INTERNAL_H
 #define VBL_RENDER_RENDER_INTERNAL_H
 
-#include "transport/estimator.h"
+#include "transport/common/estimator.h"
 
 /* vbl_render with `estimator` in place of the method's (options.method is only recorded). */
 vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_options* options,

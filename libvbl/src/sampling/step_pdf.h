@@ -1,7 +1,7 @@
 /* Piecewise-constant 1D density on [x_0, x_n]: value y_k on [x_k, x_{k+1}), normalised; sampled
  * by inverting its piecewise-linear CDF. Used to draw the camera-ray point of a VRL pair in
  * proportion to the cached camera transmittance (a step function, volume/transmittance_cache.h;
- * transport/vrl.c).
+ * transport/virtual_lights/vrl.c).
  *
  * Values must be >= 0 (negative or NaN read as 0). Without usable mass (all zero, or a total that
  * is not a positive finite number) the density is uniform over [x_0, x_n] and the pdf reports

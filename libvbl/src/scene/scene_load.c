@@ -14,7 +14,7 @@
 #include "scene/scene_build.h"
 #include "scene/scene_frame.h"
 #include "scene/scene_render_block.h"
-#include "scene/media_emission.h"
+#include "media/media_emission.h"
 #include "scene/scene_grids.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"

@@ -1,0 +1,335 @@
+/* Path tracer (reference) for media and opaque surfaces. The estimator of the RTE with a
+ * surface boundary (the rendering equation at surface points):
+ *   L(x, w) = int_0^s T(x, x_t) sigma_s(x_t) int p(w', w) L_i(x_t, w') dw' dt + T(x, x_s) L_o(x_s, w)
+ *   L_o(y, w) = int f(w, w') L_i(y, w') |cos theta'| dw'         (opaque, no emission)
+ * with s the distance to the first surface (INFINITY: the environment, L_o = L_env). Free paths by
+ * delta tracking clipped at the surface hit (collision density sigma_t T, so the throughput is
+ * multiplied by the scattering kernel / sigma_t at a real collision; reaching the surface has
+ * probability T(x, x_s)); one light chosen uniformly per vertex for NEE, with surface occlusion
+ * and media transmittance on the shadow ray; quad/environment lights combine NEE and
+ * phase/BRDF sampling by MIS (Veach 1997, eq. 9.13 balance / 9.14 power heuristic); point/spot
+ * lights add an equiangular distance sample on every segment, MIS-combined with the collision's
+ * NEE (Kulla and Fajardo 2012; transport/path_tracing/pt_equiangular.h, option pt_equiangular). Lights do
+ * not occlude; surfaces occlude everything. Contributions are classified by the camera-visible
+ * vertex and the vertex before it (vbl_class_for_vertices).
+ * Emissive media (docs/readme/emission.md) add the emission term int_0^s T sigma_a Le dt of the
+ * RTE: at every tentative collision of the free flight (null or real) the walk adds
+ * beta sigma_a Le / mu (vbl_free_flight_sample_visit; the null-scattering emission estimator of
+ * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2);
+ * seen directly it goes to volume_emission, after scattering to the class of that vertex. A
+ * scene without emission takes the plain free flight (decided once per scene). */
+#include "transport/path_tracing/pt.h"
+
+#include <math.h>
+
+#include "scene/lights.h"
+#include "media/media.h"
+#include "transport/path_tracing/pt_equiangular.h"
+
+static void vbl_add_scaled(vbl_vec3* acc, vbl_vec3 a, vbl_vec3 b, double s)
+{
+    acc->x += a.x * b.x * s;
+    acc->y += a.y * b.y * s;
+    acc->z += a.z * b.z * s;
+}
+
+/* Where a path stands: the kind of the camera-visible vertex and of the latest vertex. */
+typedef struct vbl_pt_path {
+    int events;            /* scattering events so far (surface or medium) */
+    int first_is_surface;  /* kind of vertex 1 */
+    int second;            /* kind of vertex 2: 1 surface, 0 medium, -1 none yet */
+} vbl_pt_path;
+
+/* Class of light arriving at the latest vertex from a light (events >= 1) or seen directly. */
+static vbl_transport_class vbl_pt_class(const vbl_pt_path* p)
+{
+    if (p->events <= 0) return VBL_CLASS_EMISSION;
+    return vbl_class_for_vertices(p->first_is_surface, p->events == 1 ? -1 : p->second);
+}
+
+static void vbl_pt_vertex(vbl_pt_path* p, int is_surface)
+{
+    ++p->events;
+    if (p->events == 1) p->first_is_surface = is_surface;
+    if (p->events == 2) p->second = is_surface;
+}
+
+/* Light of quad/environment lights seen along (origin, direction) before t_limit (INFINITY:
+ * nothing blocks the ray, so the environment is seen too). prev_pdf is the phase/BRDF pdf of
+ * direction and `vertex` the scattering point it was sampled at (ignored for camera rays). */
+static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 vertex,
+                                      vbl_vec3 direction, double t_limit, const vbl_pt_path* path, double prev_pdf,
+                                      vbl_vec3 beta, vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    if (!scene->has_visible_lights) return;
+    double select_pdf = 1.0 / scene->light_count;
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
+    for (int i = 0; i < scene->light_count; ++i) {
+        const vbl_light* light = &scene->lights[i];
+        if (light->type == VBL_LIGHT_QUAD) {
+            double t_hit;
+            if (!vbl_quad_intersect(light, origin, direction, &t_hit) || !(t_hit < t_limit)) continue;
+        } else if (light->type == VBL_LIGHT_ENVIRONMENT) {
+            if (!isinf(t_limit)) continue;
+        } else {
+            continue;
+        }
+        double w = 1.0;
+        if (path->events > 0)
+            w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, vertex, direction));
+        vbl_add_scaled(L, beta, light->color, w);
+    }
+}
+
+/* Visitor state of the emission estimator along one free flight. */
+typedef struct vbl_pt_emission {
+    const vbl_scene* scene;
+    vbl_emission_cursor* cursor;
+    vbl_vec3 beta;  /* throughput times MIS weight */
+    vbl_vec3* L;
+} vbl_pt_emission;
+
+static void vbl_pt_emission_visit(void* user, vbl_vec3 p, double mu, const double* per_component)
+{
+    vbl_pt_emission* e = user;
+    vbl_vec3 em = vbl_media_emission(e->scene, e->cursor, p, per_component);
+    vbl_add_scaled(e->L, e->beta, em, 1.0 / mu);
+}
+
+/* Emission arriving at a vertex along unit wi from `origin` (estimated by one tracking ray up to
+ * the first surface or real collision), times beta into *L. */
+static void vbl_pt_collect_emission(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 wi,
+                                    vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
+{
+    const vbl_scene* scene = ctx->scene;
+    vbl_surface_hit hit;
+    double t_surface = vbl_surfaces_intersect(scene->surfaces, origin, wi, 0.0, INFINITY, &hit) ? hit.t : INFINITY;
+    double components[VBL_MAX_MEDIA] = {0}, t = 0.0, sigma_t = 0.0;
+    vbl_pt_emission e = {scene, &ts->emission, beta, L};
+    vbl_ctx_free_flight_visit(ctx, ts, origin, wi, t_surface, rng, &t, &sigma_t, components, vbl_pt_emission_visit, &e);
+}
+
+/* NEE towards emissive media at a medium vertex x (docs/readme/emission.md "Light sampling"):
+ * a direction from the block cone mixture, the emission along it, MIS against the phase
+ * function unless this is the path's last vertex (then nothing continues: weight 1). */
+static void vbl_pt_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x,
+                                       vbl_vec3 travel, double sigma_t, const double* component_sigma_t, int last,
+                                       const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf;
+    vbl_vec3 wi;
+    if (!vbl_emission_lights_sample(&scene->emission_lights, x, u0, u1, u2, &wi, &pdf)) return;
+    double cos_theta = vbl_v3_dot(travel, wi);
+    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
+    if (!(vbl_v3_max_component(kernel) > 0.0)) return;
+    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
+    double s = w / (pdf * sigma_t);
+    vbl_vec3 b = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
+    vbl_pt_collect_emission(ctx, ts, x, wi, b, rng, &out->L[vbl_pt_class(path)]);
+}
+
+/* The same at a surface vertex (wo towards the previous vertex). */
+static void vbl_pt_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
+                                        vbl_vec3 wo, int last, const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng,
+                                        vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_material* m = &scene->materials[hit->material];
+    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf;
+    vbl_vec3 wi;
+    if (!vbl_emission_lights_sample(&scene->emission_lights, hit->position, u0, u1, u2, &wi, &pdf)) return;
+    if (!(vbl_v3_dot(wi, hit->geometric_normal) > 0.0)) return;
+    double cos_i = vbl_v3_dot(wi, hit->shading_normal);
+    if (!(cos_i > 0.0)) return;
+    vbl_vec3 f = vbl_material_eval(m, hit->shading_normal, wo, wi);
+    if (!(vbl_v3_max_component(f) > 0.0)) return;
+    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_material_pdf(m, hit->shading_normal, wo, wi));
+    double s = w * cos_i / pdf;
+    vbl_vec3 b = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
+    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, wi);
+    vbl_pt_collect_emission(ctx, ts, origin, wi, b, rng, &out->L[vbl_pt_class(path)]);
+}
+
+/* Picks one light uniformly and samples it from x; 0 if the sample carries no light. */
+static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, vbl_rng* rng, vbl_light_sample* ls,
+                             double* select_pdf, const vbl_light** picked)
+{
+    if (scene->light_count == 0) return 0;
+    *select_pdf = 1.0 / scene->light_count;
+    int pick = (int)(vbl_rng_uniform(rng) * scene->light_count);
+    if (pick >= scene->light_count) pick = scene->light_count - 1;
+    if (picked) *picked = &scene->lights[pick];
+    double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+    if (!vbl_light_sample_incident(&scene->lights[pick], x, u1, u2, ls)) return 0;
+    return vbl_v3_max_component(ls->li) > 0.0;
+}
+
+/* A free-flight segment: origin + t travel, t up to t_surface (INFINITY: none). */
+typedef struct vbl_pt_segment {
+    vbl_vec3 origin, travel;
+    double t_surface;
+} vbl_pt_segment;
+
+/* Next-event estimation at the medium vertex at distance t on segment `seg`. */
+static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
+                                     double t, double sigma_t, const double* component_sigma_t,
+                                     const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
+    vbl_light_sample ls;
+    double select_pdf;
+    const vbl_light* light = NULL;
+    if (!vbl_pt_pick_light(scene, x, rng, &ls, &select_pdf, &light)) return;
+    double cos_theta = vbl_v3_dot(travel, ls.wi);
+    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
+    if (vbl_v3_max_component(kernel) <= 0.0) return;
+    double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
+    if (!(T > 0.0)) return;
+    double w = 1.0;
+    if (!ls.is_delta)
+        w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
+                           vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
+    else /* against the segment's equiangular sample (pt_equiangular.h) */
+        w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t);
+    /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
+    double s = T * w / (select_pdf * ls.pdf * sigma_t);
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
+    L->x += beta.x * kernel.x * ls.li.x * s;
+    L->y += beta.y * kernel.y * ls.li.y * s;
+    L->z += beta.z * kernel.z * ls.li.z * s;
+}
+
+/* Next-event estimation at a surface hit (wo towards the previous vertex). */
+static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
+                                      vbl_vec3 wo, const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng,
+                                      vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_material* m = &scene->materials[hit->material];
+    vbl_light_sample ls;
+    double select_pdf;
+    if (!vbl_pt_pick_light(scene, hit->position, rng, &ls, &select_pdf, NULL)) return;
+    if (!(vbl_v3_dot(ls.wi, hit->geometric_normal) > 0.0)) return; /* below the surface: opaque */
+    double cos_i = vbl_v3_dot(ls.wi, hit->shading_normal);
+    if (!(cos_i > 0.0)) return;
+    vbl_vec3 f = vbl_material_eval(m, hit->shading_normal, wo, ls.wi);
+    if (!(vbl_v3_max_component(f) > 0.0)) return;
+    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, ls.wi);
+    double T = vbl_ctx_transmittance(ctx, ts, origin, ls.wi, ls.distance, rng);
+    if (!(T > 0.0)) return;
+    double w = 1.0;
+    if (!ls.is_delta)
+        w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
+                           vbl_material_pdf(m, hit->shading_normal, wo, ls.wi));
+    double s = T * w * cos_i / (select_pdf * ls.pdf);
+    vbl_vec3* L = &out->L[vbl_pt_class(path)];
+    L->x += beta.x * f.x * ls.li.x * s;
+    L->y += beta.y * f.y * ls.li.y * s;
+    L->z += beta.z * f.z * ls.li.z * s;
+}
+
+void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                          const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
+{
+    (void)store;
+    const vbl_scene* scene = ctx->scene;
+    const int max_bounces = ctx->options.max_bounces;
+    vbl_vec3 origin = sample->origin, direction = sample->direction, vertex = sample->origin;
+    vbl_vec3 beta = vbl_v3(1.0, 1.0, 1.0);
+    double prev_pdf = 0.0;
+    double components[VBL_MAX_MEDIA] = {0};
+    vbl_pt_path path = {0, 0, -1};
+    const int equiangular = vbl_pt_equiangular_active(ctx);
+    /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
+     * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
+     * majorant (their noise is dominated by the path, not by T) */
+    const vbl_render_context* first_ctx = ctx;
+    vbl_render_context tight_ctx;
+    if (ctx->tracking.majorant_scale > 1.0) {
+        tight_ctx = *ctx;
+        tight_ctx.tracking.majorant_scale = 1.0;
+        ctx = &tight_ctx;
+    }
+    for (;;) {
+        const vbl_render_context* nee_ctx = path.events == 0 ? first_ctx : ctx;
+        vbl_surface_hit hit;
+        int on_surface = vbl_surfaces_intersect(scene->surfaces, origin, direction, 0.0, INFINITY, &hit);
+        double t_surface = on_surface ? hit.t : INFINITY;
+        double t = INFINITY, sigma_t = 0.0;
+        int collided;
+        if (scene->has_emission) {
+            /* after a scattering event with emission NEE on, this strategy's MIS weight */
+            double w = 1.0;
+            if (path.events > 0 && scene->emission_nee)
+                w = vbl_mis_weight(ctx->options.mis, prev_pdf,
+                                   vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
+            vbl_pt_emission e = {scene, &ts->emission, vbl_v3_scale(beta, w),
+                                 &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
+            collided = vbl_ctx_free_flight_visit(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components,
+                                                 vbl_pt_emission_visit, &e);
+        } else {
+            collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
+        }
+        double t_limit = collided ? t : t_surface;
+        vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf, beta, out);
+        if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
+            /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
+            vbl_pt_path next = path;
+            vbl_pt_vertex(&next, 0);
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, rng, &out->L[vbl_pt_class(&next)]);
+        }
+        if (!collided && !on_surface) break; /* escaped */
+        if (collided && !(sigma_t > 0.0)) break;
+
+        vbl_pt_vertex(&path, !collided);
+        if (max_bounces >= 0 && path.events > max_bounces) break;
+        double u0, u1, u2;
+        vbl_vec3 wi;
+        double pdf = 0.0;
+        if (collided) {
+            vbl_vec3 x = vbl_v3_madd(origin, direction, t);
+            vbl_pt_segment seg = {origin, direction, t_surface};
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, components, &path, beta, rng, out);
+            int last = max_bounces >= 0 && path.events >= max_bounces;
+            if (scene->has_emission && scene->emission_nee)
+                vbl_pt_emission_nee_medium(ctx, ts, x, direction, sigma_t, components, last, &path, beta, rng, out);
+            if (last) break;
+            /* continue by sampling the sigma_s-weighted phase mixture */
+            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            if (!vbl_media_scatter(scene, components, sigma_t, direction, u0, u1, u2, &wi, &pdf, &beta)) break;
+            origin = vertex = x;
+        } else {
+            vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
+            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, beta, rng, out);
+            int last = max_bounces >= 0 && path.events >= max_bounces;
+            if (scene->has_emission && scene->emission_nee)
+                vbl_pt_emission_nee_surface(ctx, ts, &hit, wo, last, &path, beta, rng, out);
+            if (last) break;
+            /* continue by sampling the BRDF; reflection only (opaque surfaces) */
+            const vbl_material* m = &scene->materials[hit.material];
+            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            vbl_vec3 f;
+            if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
+            double cos_i = vbl_v3_dot(wi, hit.shading_normal);
+            if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) break;
+            double s = cos_i / pdf;
+            beta = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
+            vertex = hit.position;
+            origin = vbl_surface_spawn(scene->surfaces, hit.position, hit.geometric_normal, wi);
+        }
+        if (!(vbl_v3_max_component(beta) > 0.0)) break;
+        /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
+        if (path.events >= 3) {
+            double q = fmin(1.0, vbl_v3_max_component(beta));
+            if (vbl_rng_uniform(rng) >= q) break;
+            beta = vbl_v3_scale(beta, 1.0 / q);
+        }
+        prev_pdf = pdf;
+        direction = wi;
+    }
+}
+
+const vbl_estimator vbl_estimator_pt = {"pt", 0, NULL, vbl_pt_camera_sample, NULL};

@@ -1,0 +1,68 @@
+/* Virtual beam lights, media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10): the VRL
+ * estimator (transport/virtual_lights/vrl.h) with every point of a VRL inflated into a volumetric VSL of radius
+ * R_p, progressively shrunk per pass (eq 11, transport/common/radius_schedule.h, d = 2).
+ *
+ * Per camera sample:
+ *   emission            quad/environment lights seen directly (light_emission.h);
+ *   volume_direct       the shared single-scattering estimator (single_scatter.h), as pt and vrl;
+ *   volume_from_volume  for every VRL l of the pass (bounce k, k + 2 <= max_bounces), `samples`
+ *                       pairs (u, v) from the two-stage sampler of section 3.2
+ *                       (sampling/beam_light_pair.h), each contributing eq (10):
+ *     Phi_l sum_ij sigma_s,i(u) sigma_s,j(v) K_R(x_c(u), g_i; x_l(v), g_j) T_c(u) T_l(v) T(u, v) / pdf(u, v)
+ *                       with K_R the VSL kernel (vbl_vsl_kernel, `kernel_samples` directions per
+ *                       strategy, random lattice jitter: an unbiased estimate of K_R) summed over
+ *                       the media components i (camera point) and j (VSL), so mixtures of media
+ *                       with different g are exact. K_R -> f f / w^2 as R -> 0: the VRL integrand.
+ * Transmittances as in vrl.h: T_c from one cache per camera ray, T_l = 1 for short VRLs (the
+ * VRL's cache for long ones), T(u, v) by one ctx->tracking estimate on the connecting segment.
+ *
+ * Radius: R_p = vbl_radius_at_pass(R_0, alpha, 2, pass). R_0 = settings.radius0 if > 0, else
+ * vbl_radius_default_r0 over the media's box (the cube inscribed in the media's bounding sphere,
+ * transport/common/light_emission.h) and the total length of THIS pass's VRLs (deterministic: the store
+ * depends only on scene, seed and pass). Bias ~ R^2 falls like p^(alpha - 1), variance of the
+ * pass average like p^(-alpha) (radius_schedule.h): both -> 0 with fixed memory per pass.
+ * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests). */
+#ifndef VBL_TRANSPORT_VBL_BEAMS_H
+#define VBL_TRANSPORT_VBL_BEAMS_H
+
+#include "transport/common/estimator.h"
+
+typedef struct vbl_beam_light_settings {
+    double radius0;     /* world units; <= 0: default from scene scale and VRL density */
+    double alpha;       /* (0, 1]: eq 11's reduction; 1: fixed radius */
+    int samples;        /* (u, v) samples per VRL / camera-ray pair, >= 1 */
+    int kernel_samples; /* directions per strategy of the VSL kernel, >= 1 */
+    int long_vrls;      /* 1: VRLs to the media exit with cached transmittance */
+    /* volume_direct: 0 the shared equiangular estimator (single_scatter.h), 1 progressive photon
+     * beams of bounce 0 from the same photon tracing (photon_beams.h; the trace then also keeps
+     * the bounce-(M-1) segments the VBLs skip) with their own width schedule: */
+    int beams_single_scattering;
+    double beams_radius0; /* <= 0: default from the scene and the bounce-0 beams' length */
+    double beams_alpha;   /* (0, 1]: eq 11 with d = 1 */
+    int select;           /* > 0: K VRLs per camera sample from the light tree (vrl_tree.h, as vrl); 0: all */
+} vbl_beam_light_settings;
+
+#define VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT 16
+#define VBL_BEAM_LIGHT_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7, 0}
+/* What render options' vbl_single_scattering = 0 selects (measured on samples/cloud.json,
+ * docs/readme/beams.md): 0 equiangular, 1 photon beams. */
+#define VBL_BEAM_LIGHT_BEAMS_SINGLE_SCATTERING_DEFAULT 0
+
+/* From render options: vbl_radius0, vbl_alpha (0: 0.7), vrl_samples (0: 1), vrl_long,
+ * vbl_single_scattering (0: VBL_BEAM_LIGHT_BEAMS_SINGLE_SCATTERING_DEFAULT, 1: equiangular, 2: beams),
+ * beams_radius0, beams_alpha (0: 0.7). */
+void vbl_beam_light_settings_from_options(const vbl_render_options* options, vbl_beam_light_settings* out);
+
+extern const vbl_estimator vbl_estimator_vbl;
+
+vbl_result vbl_beam_light_pass_begin_with(const vbl_render_context* ctx, const vbl_beam_light_settings* settings, void** store);
+void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
+                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
+void vbl_beam_light_pass_end(const vbl_render_context* ctx, void* store);
+/* The VSL radius R_p the store uses (world units; tests, diagnostics). */
+double vbl_beam_light_store_radius(const void* store);
+/* The pass's photon store (tests). */
+struct vbl_photon_store;
+const struct vbl_photon_store* vbl_beam_light_store_photons(const void* store);
+
+#endif
