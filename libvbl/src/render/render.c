@@ -268,6 +268,9 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 }
             }
         }
+        /* a stop seen anywhere in the pass (a pixel's samples, a virtual-light loop) may have cut
+         * the last pixels short: the latch drops the pass too */
+        if (stop_latch) stop_pass = 1;
         if (est->pass_end) est->pass_end(&ctx, store);
         if (stop_pass) { /* drop the part of the pass rendered so far */
             if (passes_done > 0) memcpy(accum, backup, pixel_count * sizeof *backup);
