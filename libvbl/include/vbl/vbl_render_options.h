@@ -173,7 +173,7 @@ typedef enum vbl_render_option_effect {
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
-    X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL,   \
+    X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 1, 0, 1, 0, NULL,   \
       HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
     X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
       0, 1, 0, "independent|sobol", HASH,                                                                    \
