@@ -42,6 +42,20 @@ vbl_vec3 vbl_beam_light_surface_kernel(const vbl_surface_point* sp, const vbl_su
                                    jitter);
 }
 
+vbl_vec3 vbl_surface_vrl_mixture_kernel(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double v,
+                                        double radius, int n, const double jitter[3], const vbl_medium_point* mp)
+{
+    vbl_vec3 k = vbl_v3(0.0, 0.0, 0.0);
+    for (int i = 0; i < mp->count; ++i) {
+        vbl_surface_vrl lobe = *vrl;
+        lobe.g = mp->lobe[i].g;
+        vbl_vec3 ki = radius > 0.0 ? vbl_beam_light_surface_kernel(sp, &lobe, v, radius, n, jitter)
+                                   : vbl_vrl_surface_integrand(sp, &lobe, v);
+        k = vbl_v3_add(k, vbl_v3_mul(vbl_medium_lobe_weight(mp, i), ki));
+    }
+    return k;
+}
+
 typedef struct target_ctx {
     const vbl_surface_point* sp;
     const vbl_surface_vrl* vrl;

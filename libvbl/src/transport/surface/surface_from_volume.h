@@ -30,6 +30,7 @@
 
 #include "core/math.h"
 #include "material/material.h"
+#include "media/medium.h"
 #include "transport/surface/surface_line_sampler.h"
 
 /* A camera-visible shading point, prepared once and reused for every virtual light. */
@@ -59,6 +60,12 @@ vbl_vec3 vbl_vrl_surface_integrand(const vbl_surface_point* sp, const vbl_surfac
 /* Eq 9 / Phi: K_R(x, p(v)) (R == 0: the integrand above). jitter: see surface_cone_kernel.h. */
 vbl_vec3 vbl_beam_light_surface_kernel(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double v, double radius,
                                 int n, const double jitter[3]);
+
+/* sum_i w_i k_i at p(v) over the lobes of the medium there (media/medium.h; w_i = albedo_i
+ * sigma_t,i / sigma_t, k_i the kernel above with g = g_i, radius 0: the eq 6 integrand): the
+ * in-scattering of overlapping media with different g, which one HG lobe of the VRL's g is not. */
+vbl_vec3 vbl_surface_vrl_mixture_kernel(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double v,
+                                        double radius, int n, const double jitter[3], const vbl_medium_point* mp);
 
 /* The sampler of v in [0, length] (R == 0: VRL target, R > 0: VBL target). Returns 0 without
  * support (zero length). */

@@ -10,6 +10,7 @@
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
 #include "media/media.h"
+#include "media/medium.h"
 #include "transport/surface/surface_caustics.h"
 #include "transport/surface/surface_cone_kernel.h"
 #include "transport/surface/surface_from_volume.h"
@@ -26,18 +27,17 @@ typedef struct gather_cb {
     const vbl_vrl* vrl;
     const vbl_transmittance_cache* cache;
     vbl_vec3 albedo;
+    vbl_medium_point mp; /* the medium at the last point the kernels asked about */
+    double m_last;       /* and its M (0 before the callback runs) */
 } gather_cb;
 
-/* sigma_t at p and the sigma_t-weighted albedo there. */
-static double vbl_medium_at(const gather_cb* c, vbl_vec3 p, vbl_vec3* albedo)
+/* sigma_t at p, the medium there (c->mp) and its sigma_t-weighted albedo. */
+static double vbl_medium_at(gather_cb* c, vbl_vec3 p, vbl_vec3* albedo)
 {
-    const vbl_scene* scene = c->ctx->scene;
-    double comps[VBL_MAX_MEDIA];
-    double sigma_t = vbl_extinction_eval(c->ctx->extinction, &c->ts->cursor, p, comps);
+    double sigma_t = vbl_medium_query(c->ctx->scene, c->ctx->extinction, &c->ts->cursor, p, &c->mp);
     *albedo = vbl_v3(0.0, 0.0, 0.0);
     if (!(sigma_t > 0.0)) return 0.0;
-    for (int i = 0; i < scene->media_count; ++i)
-        if (comps[i] > 0.0) *albedo = vbl_v3_madd(*albedo, scene->media[i].albedo, comps[i] / sigma_t);
+    for (int i = 0; i < c->mp.count; ++i) *albedo = vbl_v3_madd(*albedo, c->mp.lobe[i].albedo, c->mp.lobe[i].sigma_t / sigma_t);
     return sigma_t;
 }
 
@@ -60,11 +60,12 @@ static vbl_vec3 vbl_vsl_origin(const vbl_render_context* ctx, vbl_vec3 y, vbl_ve
 static double vbl_vrl_medium(void* user, double v, vbl_vec3 p, vbl_vec3 x)
 {
     gather_cb* c = user;
+    c->m_last = 0.0;
     double sigma_t = vbl_medium_at(c, p, &c->albedo);
     if (!(sigma_t > 0.0)) return 0.0;
     double tl = vbl_vrl_transmittance(c->photons, c->vrl, v);
     if (!(tl > 0.0)) return 0.0;
-    return sigma_t * tl * vbl_tv(c, p, x);
+    return c->m_last = sigma_t * tl * vbl_tv(c, p, x);
 }
 
 /* T V between a surface VSL at y and the surface point x (surface_vsl.h's visibility). */
@@ -128,7 +129,18 @@ static vbl_vec3 vbl_gather_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0
     vbl_vec3 x = vbl_surface_line_point(&s, u);
     double m = vbl_camera_medium(cb, u, x, vsl->position);
     if (!(m > 0.0)) return zero;
-    vbl_vec3 k = vbl_surface_vsl_kernel_medium(x, c_d, g_camera, vsl, vm, r, n, jitter);
+    vbl_vec3 k;
+    if (cb->ctx->scene->media_count > 1) {
+        /* overlapping media: the phase at x is the sigma_s-weighted mixture of their HG lobes, one
+         * kernel per lobe (g_camera is only the sampler's hint); the weights replace the albedo */
+        k = vbl_v3(0.0, 0.0, 0.0);
+        for (int i = 0; i < cb->mp.count; ++i)
+            k = vbl_v3_add(k, vbl_v3_mul(vbl_medium_lobe_weight(&cb->mp, i),
+                                         vbl_surface_vsl_kernel_medium(x, c_d, cb->mp.lobe[i].g, vsl, vm, r, n, jitter)));
+        cb->albedo = vbl_v3(1.0, 1.0, 1.0);
+    } else {
+        k = vbl_surface_vsl_kernel_medium(x, c_d, g_camera, vsl, vm, r, n, jitter);
+    }
     return vbl_v3_scale(vbl_v3_mul(vsl->power, k), m / pdf);
 }
 
@@ -256,7 +268,7 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     const vbl_scene* scene = ctx->scene;
     const int M = ctx->options.max_bounces;
     if (!gs->blue_noise || (M >= 0 && M < 2)) return vbl_v3(0.0, 0.0, 0.0);
-    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = NULL, .cache = NULL};
     vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
                          &scene->materials[hit->material],
                          vbl_surfaces_ray_epsilon(scene->surfaces, hit->position),
@@ -313,7 +325,7 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
                                 ctx->tracking.use_global_majorant, rng, &t, &sigma_t, comps) ||
         !(sigma_t > 0.0))
         return zero;
-    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = NULL, .cache = NULL};
     bn_medium_point mp = {scene, comps, sigma_t};
     const vbl_vec3 x = vbl_v3_madd(sample->origin, sample->direction, t);
     vbl_bn_shading sp = {x, vbl_v3(0, 0, 1), vbl_v3(0, 0, 1), vbl_v3_scale(sample->direction, -1.0), NULL, 0.0,
@@ -392,7 +404,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
 
     const double clamp2 = gs->clamp_distance * gs->clamp_distance;
     const int nk = gs->kernel_samples > 0 ? gs->kernel_samples : VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
-    gather_cb cb = {ctx, ts, rng, photons, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = NULL};
     const int need_sp = (gs->vrls && photons->vrl_count) || (photons->surface_vsl_count && gs->vsl_radius > 0.0);
     vbl_surface_point sp;
     if (need_sp) vbl_surface_point_init(&sp, x, n, wo, m);
@@ -406,13 +418,25 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
             cb.vrl = l;
             cb.albedo = vbl_v3(0.0, 0.0, 0.0);
-            double xi = vbl_rng_uniform(rng);
+            cb.m_last = 0.0;
+            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0}, v = 0.0, pdf = 0.0;
             vbl_vec3 e;
             if (gs->vrl_radius > 0.0) {
-                double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
-                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, NULL, NULL);
+                for (int k = 0; k < 3; ++k) jitter[k] = vbl_rng_uniform(rng);
+                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, &v, &pdf);
             } else {
-                e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, NULL, NULL);
+                e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, &v, &pdf);
+            }
+            if (scene->media_count > 1) {
+                /* overlapping media: the phase at the VRL point is the mixture of their lobes there
+                 * (the VRL's g is only the sampler's hint); the same v, pdf and M, the weights
+                 * replacing the albedo */
+                e = vbl_v3(0.0, 0.0, 0.0);
+                if (pdf > 0.0 && cb.m_last > 0.0) {
+                    vbl_vec3 k = vbl_surface_vrl_mixture_kernel(&sp, &sv, v, gs->vrl_radius, nk, jitter, &cb.mp);
+                    e = vbl_v3_scale(vbl_v3_mul(sv.power, k), cb.m_last / pdf);
+                }
+                cb.albedo = vbl_v3(1.0, 1.0, 1.0);
             }
             from_volume = vbl_v3_add(from_volume, vbl_v3_mul(e, cb.albedo));
         }
@@ -512,7 +536,7 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
     const int nk = gs->kernel_samples > 0 ? gs->kernel_samples : VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
     const double R = gs->vsl_radius > 0.0 ? gs->vsl_radius : 0.0;
     const int M = ctx->options.max_bounces;
-    gather_cb cb = {ctx, ts, rng, photons, NULL, cache, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = cache};
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
         const vbl_surface_vsl v = photons->surface_vsls[j];
