@@ -81,4 +81,15 @@ vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl
                               vbl_surface_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
                               double* v_out, double* pdf_out);
 
+/* Overlapping media with different g (media/medium.h): the same estimate with the true phase
+ * mixture at the sampled point. `medium` returns sigma_t(p) T_vrl(0, v) T(p, x) V(p, x) and the
+ * medium there (*mp); the estimate is Phi M sum_i w_i k_i(v) / pdf(v) (vbl_surface_vrl_mixture_kernel),
+ * v from the sampler fitted to `hint`'s mixture (the lobes the VRL may meet; NULL: the VRL's g). */
+typedef double (*vbl_surface_mixture_fn)(void* ctx, double v, vbl_vec3 vrl_point, vbl_vec3 x, vbl_medium_point* mp);
+int vbl_surface_vrl_sampler_init_mixture(vbl_surface_line_sampler* s, const vbl_surface_point* sp,
+                                         const vbl_surface_vrl* vrl, double radius, const vbl_medium_point* hint);
+vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
+                                      const vbl_medium_point* hint, vbl_surface_mixture_fn medium, void* ctx,
+                                      double xi, int n, const double jitter[3]);
+
 #endif

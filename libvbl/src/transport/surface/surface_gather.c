@@ -28,7 +28,6 @@ typedef struct gather_cb {
     const vbl_transmittance_cache* cache;
     vbl_vec3 albedo;
     vbl_medium_point mp; /* the medium at the last point the kernels asked about */
-    double m_last;       /* and its M (0 before the callback runs) */
 } gather_cb;
 
 /* sigma_t at p, the medium there (c->mp) and its sigma_t-weighted albedo. */
@@ -60,12 +59,20 @@ static vbl_vec3 vbl_vsl_origin(const vbl_render_context* ctx, vbl_vec3 y, vbl_ve
 static double vbl_vrl_medium(void* user, double v, vbl_vec3 p, vbl_vec3 x)
 {
     gather_cb* c = user;
-    c->m_last = 0.0;
     double sigma_t = vbl_medium_at(c, p, &c->albedo);
     if (!(sigma_t > 0.0)) return 0.0;
     double tl = vbl_vrl_transmittance(c->photons, c->vrl, v);
     if (!(tl > 0.0)) return 0.0;
-    return c->m_last = sigma_t * tl * vbl_tv(c, p, x);
+    return sigma_t * tl * vbl_tv(c, p, x);
+}
+
+/* vbl_vrl_medium and the medium at p (surface_from_volume.h's mixture form). */
+static double vbl_vrl_medium_mixture(void* user, double v, vbl_vec3 p, vbl_vec3 x, vbl_medium_point* mp)
+{
+    gather_cb* c = user;
+    double m = vbl_vrl_medium(user, v, p, x);
+    *mp = c->mp;
+    return m;
 }
 
 /* T V between a surface VSL at y and the surface point x (surface_vsl.h's visibility). */
@@ -411,6 +418,13 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
 
     /* surface_from_volume */
     vbl_vec3 from_volume = vbl_v3(0.0, 0.0, 0.0);
+    vbl_medium_point lobes; /* several media: every lobe, weighted by density scale (the sampler's hint) */
+    lobes.count = 0;
+    if (gs->vrls && scene->media_count > 1) {
+        double scale[VBL_MAX_MEDIA] = {0};
+        for (int i = 0; i < scene->media_count; ++i) scale[i] = scene->media[i].density_scale;
+        vbl_medium_point_from_components(scene, scale, &lobes);
+    }
     if (gs->vrls) {
         for (size_t j = 0; j < photons->vrl_count; ++j) {
             const vbl_vrl* l = &photons->vrls[j];
@@ -418,25 +432,20 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
             cb.vrl = l;
             cb.albedo = vbl_v3(0.0, 0.0, 0.0);
-            cb.m_last = 0.0;
-            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0}, v = 0.0, pdf = 0.0;
-            vbl_vec3 e;
-            if (gs->vrl_radius > 0.0) {
+            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0};
+            if (gs->vrl_radius > 0.0)
                 for (int k = 0; k < 3; ++k) jitter[k] = vbl_rng_uniform(rng);
-                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, &v, &pdf);
-            } else {
-                e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, &v, &pdf);
-            }
+            vbl_vec3 e;
             if (scene->media_count > 1) {
-                /* overlapping media: the phase at the VRL point is the mixture of their lobes there
-                 * (the VRL's g is only the sampler's hint); the same v, pdf and M, the weights
-                 * replacing the albedo */
-                e = vbl_v3(0.0, 0.0, 0.0);
-                if (pdf > 0.0 && cb.m_last > 0.0) {
-                    vbl_vec3 k = vbl_surface_vrl_mixture_kernel(&sp, &sv, v, gs->vrl_radius, nk, jitter, &cb.mp);
-                    e = vbl_v3_scale(vbl_v3_mul(sv.power, k), cb.m_last / pdf);
-                }
+                /* overlapping media: the phase at the VRL point is the mixture of their lobes there,
+                 * the sampler fitted to the scene's lobes; the weights replace the albedo */
+                e = vbl_surface_from_vrl_mixture(&sp, &sv, gs->vrl_radius, &lobes, vbl_vrl_medium_mixture, &cb, xi, nk,
+                                                 jitter);
                 cb.albedo = vbl_v3(1.0, 1.0, 1.0);
+            } else if (gs->vrl_radius > 0.0) {
+                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, NULL, NULL);
+            } else {
+                e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, NULL, NULL);
             }
             from_volume = vbl_v3_add(from_volume, vbl_v3_mul(e, cb.albedo));
         }
