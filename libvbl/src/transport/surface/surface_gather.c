@@ -115,11 +115,14 @@ static double vbl_camera_target(void* user, vbl_vec3 p)
     return vbl_surface_lobe_max_in_cone(&a, &cone) * vbl_surface_lobe_max_in_cone(&b, &cone);
 }
 
-static vbl_vec3 vbl_gather_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                                           const vbl_surface_vsl* vsl, vbl_vec3 peak, const vbl_material* vm,
-                                           double r, gather_cb* cb, double xi, int n, const double jitter[3],
-                                           double* u_out)
+static vbl_vec3 vbl_gather_volume_from_vsl(const vbl_segment* camera, double g_camera, const vbl_surface_vsl* vsl,
+                                           vbl_vec3 peak, const vbl_material* vm, const vbl_surface_kernel* kernel,
+                                           gather_cb* cb, double xi, double* u_out)
 {
+    const vbl_vec3 c_o = camera->origin, c_d = camera->direction;
+    const double u0 = camera->t0, u1 = camera->t1, r = kernel->radius;
+    const int n = kernel->n;
+    const double* jitter = kernel->jitter;
     vbl_vec3 zero = vbl_v3(0, 0, 0);
     vbl_surface_line_sampler s;
     if (!vbl_surface_line_init(&s, c_o, c_d, u0, u1, vsl->position, r)) return zero;
@@ -546,16 +549,18 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
     const double R = gs->vsl_radius > 0.0 ? gs->vsl_radius : 0.0;
     const int M = ctx->options.max_bounces;
     gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = cache};
+    const vbl_segment camera = {o, d, u0, u1};
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
         const vbl_surface_vsl v = photons->surface_vsls[j];
         double xi = vbl_rng_uniform(rng);
-        double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
+        vbl_surface_kernel kernel = {R, nk, {0.0, 0.0, 0.0}};
+        for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(rng);
         if (M >= 0 && v.bounce + 2 > M) continue; /* stores traced one event deeper (vbl + beams) */
         cb.albedo = vbl_v3(0.0, 0.0, 0.0);
         double u = u0;
-        vbl_vec3 e = vbl_gather_volume_from_vsl(o, d, u0, u1, gs->g_camera, &v, photons->surface_vsl_peaks[j],
-                                                &scene->materials[v.material], R, &cb, xi, nk, jitter, &u);
+        vbl_vec3 e = vbl_gather_volume_from_vsl(&camera, gs->g_camera, &v, photons->surface_vsl_peaks[j],
+                                                &scene->materials[v.material], &kernel, &cb, xi, &u);
         if (!vbl_any(e)) continue;
         if (R == 0.0 && clamp2 > 0.0) {
             vbl_vec3 to = vbl_v3_sub(vbl_v3_madd(o, d, u), v.position);
