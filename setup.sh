@@ -15,7 +15,7 @@ packages=(
 )
 # only for `./setup.sh test`: the Slurm integration test (tests/pipeline), benchmark plots and the
 # documentation site (tests/docs: MkDocs + Doxygen)
-test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib mkdocs doxygen)
+test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib mkdocs doxygen blender)
 
 install_missing_packages() {
   local missing=()

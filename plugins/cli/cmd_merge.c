@@ -231,9 +231,11 @@ static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int 
                                              "vbl:media",       "vbl:frame",       "vbl:method",      "vbl:preset",
                                              "vbl:spp",         "vbl:light_paths", "vbl:seed",        "vbl:options_hash",
                                              "vbl:threads",     "vbl:max_bounces", "vbl:transmittance", "vbl:alpha",
-                                             "vbl:scene_color_space", NULL};
-        vbl_exr_attribute attrs[32];
-        int attr_count = 0;
+                                             "vbl:scene_color_space", "vbl:transparent", "worldToCamera",
+                                             "worldToNDC", NULL};
+        vbl_exr_attribute attrs[40];
+        float matrices[2][16];
+        int attr_count = 0, matrix_count = 0;
         for (int i = 0; copied[i]; ++i) {
             int type = 0;
             const char* v = vbl_exr_image_attribute(first, copied[i], &type);
@@ -245,6 +247,20 @@ static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int 
             a->value = v;
             a->int_value = atoi(v);
             a->double_value = atof(v);
+            if (type == VBL_EXR_ATTRIBUTE_M44F) { /* the 16 numbers of the reader's text */
+                if (matrix_count == 2) {
+                    --attr_count;
+                    continue;
+                }
+                float* m = matrices[matrix_count++];
+                const char* p = v;
+                for (int e = 0; e < 16; ++e) {
+                    char* end = NULL;
+                    m[e] = strtof(p, &end);
+                    p = end && end != p ? end : p;
+                }
+                a->m44 = m;
+            }
         }
         char range[64], merged_from[8192];
         snprintf(range, sizeof range, "%d-%d", first_pass, last_pass);
@@ -257,13 +273,13 @@ static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int 
             if (used >= sizeof merged_from) used = sizeof merged_from - 1;
         }
         const vbl_exr_attribute extra[] = {
-            {"vbl:status", status, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
-            {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, total_passes, 0.0},
-            {"vbl:passes_requested", NULL, VBL_EXR_ATTRIBUTE_INT, requested, 0.0},
-            {"vbl:first_pass", NULL, VBL_EXR_ATTRIBUTE_INT, first_pass, 0.0},
-            {"vbl:pass_range", range, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
-            {"vbl:merged_from", merged_from, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
-            {"vbl:render_seconds", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, seconds},
+            {"vbl:status", status, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
+            {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, total_passes, 0.0, NULL},
+            {"vbl:passes_requested", NULL, VBL_EXR_ATTRIBUTE_INT, requested, 0.0, NULL},
+            {"vbl:first_pass", NULL, VBL_EXR_ATTRIBUTE_INT, first_pass, 0.0, NULL},
+            {"vbl:pass_range", range, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
+            {"vbl:merged_from", merged_from, VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
+            {"vbl:render_seconds", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, seconds, NULL},
         };
         for (size_t i = 0; i < sizeof extra / sizeof extra[0]; ++i) attrs[attr_count++] = extra[i];
         vbl_exr_write_options wo = VBL_EXR_WRITE_OPTIONS_DEFAULT;

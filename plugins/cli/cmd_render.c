@@ -8,6 +8,7 @@
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -27,6 +28,8 @@ static int vbl_render_make_options(const vbl_render_args* args, const vbl_scene*
         if (args->option_values[i] &&
             vbl_render_option_set_strict(options, vbl_render_option_desc(i)->name, args->option_values[i]))
             return vbl_cli_fail(VBL_ERROR_INVALID_ARGUMENT);
+    if (args->animated_seed && args->has_frame) /* a fresh pattern per frame (Cycles' animated seed) */
+        options->seed += (uint64_t)(int64_t)args->frame * 0x9E3779B97F4A7C15ull;
     if (args->pass_first >= 0) {
         options->first_pass = (int)args->pass_first;
         options->passes = (int)(args->pass_last - args->pass_first + 1);
@@ -57,6 +60,9 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
     load.vdb_override_count = args->vdb_count;
     load.frame = args->frame;
     load.use_frame = args->has_frame;
+    load.camera = args->camera;
+    load.width = args->width;
+    load.height = args->height;
     vbl_render_output_scene_load_options(output, &load);
     vbl_scene* scene = NULL;
     r = vbl_scene_load_ex(args->scene_path, &load, &scene);
@@ -67,6 +73,9 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
         return vbl_render_fail(progress, r);
     }
     vbl_render_output_set_scene(output, scene);
+    if (vbl_scene_light_count(scene) == 0 && !vbl_scene_has_emission(scene))
+        fprintf(stderr, "vbl render: warning: %s has no lights and no emissive media: the image will be black\n",
+                args->scene_path);
 
     vbl_render_options options = VBL_RENDER_OPTIONS_DEFAULT;
     int code = vbl_render_make_options(args, scene, &options);

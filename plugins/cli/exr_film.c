@@ -53,6 +53,7 @@ vbl_result vbl_cli_film_from_exr(const vbl_exr_image* image, const char* path, i
     if (seed) stats.seed = strtoull(seed, NULL, 10);
     stats.passes = passes >= 1 ? passes : (vbl_exr_film_attr_int(image, "vbl:passes", &v) ? (int)v : 0);
     if (vbl_exr_film_attr_int(image, "vbl:first_pass", &v)) stats.first_pass = (int)v;
+    if (vbl_exr_film_attr_int(image, "vbl:transparent", &v)) stats.transparent = v != 0;
     const char* seconds = vbl_exr_image_attribute(image, "vbl:render_seconds", NULL);
     if (seconds) stats.render_seconds = atof(seconds);
     const int w = vbl_exr_image_width(image), h = vbl_exr_image_height(image);

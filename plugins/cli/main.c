@@ -1,5 +1,6 @@
 /* `vbl`: entry point, --help/--version and sub-command dispatch. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -71,8 +72,44 @@ int main(int argc, char** argv)
         printf("vbl %s\n", vbl_version_string());
         return VBL_EXIT_OK;
     }
-    for (size_t i = 0; i < sizeof vbl_cli_commands / sizeof vbl_cli_commands[0]; ++i)
-        if (!strcmp(argv[1], vbl_cli_commands[i].name)) return vbl_cli_commands[i].run(argc - 1, argv + 1);
+    for (size_t i = 0; i < sizeof vbl_cli_commands / sizeof vbl_cli_commands[0]; ++i) {
+        if (strcmp(argv[1], vbl_cli_commands[i].name)) continue;
+        if (!strcmp(argv[1], "render")) return vbl_cli_commands[i].run(argc - 1, argv + 1); /* parses --flag=value itself */
+        /* getopt_long's --flag=value for the other commands: split into --flag value */
+        char** args = malloc(sizeof *args * (size_t)(2 * argc + 1));
+        char** owned = malloc(sizeof *owned * (size_t)(argc + 1));
+        if (!args || !owned) {
+            free(args);
+            free(owned);
+            fprintf(stderr, "vbl: out of memory\n");
+            return VBL_EXIT_FAILURE;
+        }
+        int n = 0, owned_count = 0, literal = 0;
+        for (int a = 1; a < argc; ++a) {
+            char* eq = !literal && argv[a][0] == '-' && argv[a][1] == '-' ? strchr(argv[a], '=') : NULL;
+            if (!strcmp(argv[a], "--")) literal = 1;
+            if (!eq) {
+                args[n++] = argv[a];
+                continue;
+            }
+            char* flag = malloc((size_t)(eq - argv[a]) + 1);
+            if (!flag) {
+                args[n++] = argv[a];
+                continue;
+            }
+            memcpy(flag, argv[a], (size_t)(eq - argv[a]));
+            flag[eq - argv[a]] = 0;
+            owned[owned_count++] = flag;
+            args[n++] = flag;
+            args[n++] = eq + 1;
+        }
+        args[n] = NULL;
+        int code = vbl_cli_commands[i].run(n, args);
+        for (int k = 0; k < owned_count; ++k) free(owned[k]);
+        free(owned);
+        free(args);
+        return code;
+    }
     fprintf(stderr, "vbl: unknown command '%s' (see 'vbl --help')\n", argv[1]);
     return VBL_EXIT_USAGE;
 }

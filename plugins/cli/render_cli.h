@@ -44,6 +44,10 @@ typedef struct vbl_render_args {
     int keep_going;               /* --keep-going: later frames still render after a failed one */
     int resume;                   /* --resume: continue from OUT.exr if it is a compatible checkpoint */
     long pass_first, pass_last;   /* --pass-range A-B (inclusive, absolute); -1: not given */
+    /* shot controls (docs/readme/render.md, "Camera") */
+    const char* camera;           /* --camera NAME|FILE.json: a camera of the scene's "cameras" or a file */
+    int width, height;            /* --resolution WxH; 0: the camera's */
+    int animated_seed;            /* --animated-seed: frame f renders with seed + f * 0x9E3779B97F4A7C15 */
     /* set per frame by cmd_render.c (the paths above then hold the frame's file names) */
     int frame, has_frame;
 } vbl_render_args;

@@ -15,10 +15,17 @@ static void vbl_render_usage(FILE* out)
     fprintf(out,
             "usage: vbl render SCENE.json -o OUT.exr [options]\n\n"
             "Renders a scene file (README 'Rendering') to one multi-layer OpenEXR: beauty R,G,B,A and one\n"
-            "layer per light-transport class the scene produces (emission, volume_direct, volume_from_volume),\n"
+            "layer per light-transport class the scene produces (background, volume_direct, volume_from_volume),\n"
             "which sum to the beauty exactly in FLOAT storage. Options override the scene's \"render\" block.\n\n"
             "  -o, --output OUT.exr       output EXR (written to a temporary name, then renamed)\n"
-            "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n\n"
+            "  --vdb PATH                 replace media[i].vdb (i-th use -> media[i]); for sample scenes\n"
+            "  --camera NAME|FILE.json    render through the scene's cameras.NAME, or a camera in a JSON file\n"
+            "  --resolution WxH           image size instead of the camera's (the lens keeps its fov / fit)\n"
+            "  --transparent on           keep the background (sky, visible lights) out of the beauty: a\n"
+            "                             premultiplied element over A (the background layer still holds it)\n"
+            "  --animated-seed            with --frames: frame f uses seed + f * 0x9E3779B97F4A7C15 (noise\n"
+            "                             that changes per frame instead of a fixed pattern)\n"
+            "  Flags take their value as '--flag VALUE' or '--flag=VALUE'.\n\n"
             "Render options (the scene's \"render\" keys; 'vbl options --markdown' is the docs table):\n");
     vbl_options_doc_help(out);
     fprintf(out,
@@ -27,7 +34,7 @@ static void vbl_render_usage(FILE* out)
             "  --aov LIST                 extra layers, comma-separated: z, samples, variance, all\n"
             "  --half                     store beauty, transport and variance layers as HALF (default FLOAT;\n"
             "                             HALF layers no longer sum to the beauty exactly). Z, samples: FLOAT\n"
-            "  --half-layers LIST         only these layers as HALF (beauty, emission, volume_direct, ...)\n"
+            "  --half-layers LIST         only these layers as HALF (beauty, background, volume_direct, ...)\n"
             "  --compression NAME         none|zip|piz|dwaa (default zip)\n"
             "  --tiled                    tiled EXR (default scanlines); --tile-size N (default 64)\n"
             "  --checkpoint-passes N      rewrite OUT.exr every N passes while rendering\n"
@@ -92,6 +99,24 @@ static int vbl_parse_pass_range(const char* text, long* first, long* last)
            *last >= *first;
 }
 
+/* --resolution WxH: two integers in [1, 32768] ("1920x1080"). */
+static int vbl_parse_resolution(const char* text, int* width, int* height)
+{
+    const char* x = strchr(text, 'x');
+    if (!x) x = strchr(text, 'X');
+    if (!x || x == text) return 0;
+    char a[32];
+    size_t n = (size_t)(x - text);
+    if (n >= sizeof a) return 0;
+    memcpy(a, text, n);
+    a[n] = 0;
+    long w = 0, h = 0;
+    if (!vbl_parse_long(a, 1, 32768, &w) || !vbl_parse_long(x + 1, 1, 32768, &h)) return 0;
+    *width = (int)w;
+    *height = (int)h;
+    return 1;
+}
+
 static int vbl_parse_compression(const char* text, int* out)
 {
     static const char* const names[4] = {"none", "zip", "piz", "dwaa"};
@@ -135,7 +160,21 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         const char* v = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = 1, ok = 1, option = -1;
+        int takes = 1, ok = 1, option = -1, inline_value = 0;
+        char flag[128];
+        const char* eq = a[0] == '-' && a[1] == '-' ? strchr(a, '=') : NULL;
+        if (eq) { /* getopt_long's --flag=value */
+            size_t n = (size_t)(eq - a);
+            if (n >= sizeof flag) {
+                fprintf(stderr, "vbl render: unknown option '%s' (see 'vbl render --help')\n", a);
+                return VBL_EXIT_USAGE;
+            }
+            memcpy(flag, a, n);
+            flag[n] = 0;
+            a = flag;
+            v = eq + 1;
+            inline_value = 1;
+        }
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             vbl_render_usage(stdout);
             return VBL_EXIT_OK;
@@ -154,6 +193,9 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             takes = 0;
         } else if (!strcmp(a, "--tiled")) {
             args->tiled = 1;
+            takes = 0;
+        } else if (!strcmp(a, "--animated-seed")) {
+            args->animated_seed = 1;
             takes = 0;
         } else if (a[0] != '-' || !a[1]) {
             if (args->scene_path) {
@@ -180,6 +222,8 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             args->option_values[option] = v;
         }
         else if (!strcmp(a, "--aov")) ok = vbl_parse_aovs(v, args), args->aovs = v;
+        else if (!strcmp(a, "--camera")) args->camera = v;
+        else if (!strcmp(a, "--resolution")) ok = vbl_parse_resolution(v, &args->width, &args->height);
         else if (!strcmp(a, "--half-layers")) args->half_layers = v;
         else if (!strcmp(a, "--compression")) ok = vbl_parse_compression(v, &args->compression);
         else if (!strcmp(a, "--tile-size")) {
@@ -215,7 +259,11 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
             fprintf(stderr, "vbl render: invalid value '%s' for %s (see 'vbl render --help')\n", v, a);
             return VBL_EXIT_USAGE;
         }
-        i += takes;
+        if (inline_value && !takes) {
+            fprintf(stderr, "vbl render: %s takes no value (got '%s')\n", a, v);
+            return VBL_EXIT_USAGE;
+        }
+        i += inline_value ? 0 : takes;
     }
     if (!args->scene_path || !args->output) {
         fprintf(stderr, "vbl render: %s\n\n", !args->scene_path ? "no scene file given" : "no output given (-o OUT.exr)");
@@ -231,6 +279,10 @@ int vbl_render_parse_args(int argc, char** argv, vbl_render_args* args)
     }
     if (args->keep_going && !args->frames) {
         fprintf(stderr, "vbl render: --keep-going needs --frames\n");
+        return VBL_EXIT_USAGE;
+    }
+    if (args->animated_seed && !args->frames) {
+        fprintf(stderr, "vbl render: --animated-seed needs --frames\n");
         return VBL_EXIT_USAGE;
     }
     if (args->tile_size && !args->tiled) {

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -26,7 +27,7 @@
 #endif
 #endif
 
-#define VBL_RENDER_MAX_LAYERS 16
+#define VBL_RENDER_MAX_LAYERS 32
 
 struct vbl_render_output {
     const vbl_render_args* args;
@@ -41,6 +42,8 @@ struct vbl_render_output {
     vbl_color_config* config;
 #endif
     char media[4096];         /* vbl:media: the scene's VDB paths (realpath), ';'-separated */
+    float world_to_camera[16], world_to_ndc[16]; /* worldToCamera, worldToNDC (vbl_scene_camera_matrices) */
+    int have_camera;
     /* --resume: the checkpoint merged into every file written */
     vbl_exr_image* base;
     int base_passes, base_first_pass;
@@ -49,6 +52,12 @@ struct vbl_render_output {
 
 void vbl_render_output_set_scene(vbl_render_output* o, const vbl_scene* scene)
 {
+    double w2c[16], w2n[16];
+    o->have_camera = vbl_scene_camera_matrices(scene, w2c, w2n) == VBL_SUCCESS;
+    for (int e = 0; e < 16; ++e) {
+        o->world_to_camera[e] = (float)w2c[e];
+        o->world_to_ndc[e] = (float)w2n[e];
+    }
     size_t used = 0;
     o->media[0] = 0;
     for (int i = 0; i < vbl_scene_medium_count(scene); ++i) {
@@ -95,6 +104,19 @@ static vbl_result vbl_render_check_dir(const char* path, const char* what)
     return VBL_SUCCESS;
 }
 
+/* The output format is given by the option, not guessed from the name: a path whose extension
+ * names another format (out.png for -o) is refused, so no file holds bytes its name belies. */
+static vbl_result vbl_render_check_extension(const char* path, const char* ext, const char* flag, const char* what)
+{
+    const char* slash = strrchr(path, '/');
+    const char* base = slash ? slash + 1 : path;
+    const char* dot = strrchr(base, '.');
+    if (dot && !strcasecmp(dot, ext)) return VBL_SUCCESS;
+    return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
+                            "%s: %s writes %s; name it *%s (%s)", path, flag, what, ext,
+                            dot ? "its extension names another format" : "it has no extension");
+}
+
 /* FNV-1a 64 of the scene file's bytes (offset basis 0xcbf29ce484222325, prime 0x100000001b3). */
 static vbl_result vbl_render_hash_scene(const char* path, char out[40])
 {
@@ -114,10 +136,20 @@ static vbl_result vbl_render_hash_scene(const char* path, char out[40])
     return VBL_SUCCESS;
 }
 
-/* Layer names accepted by --half-layers: beauty, the transport classes (vbl_transport_class_name), variance. */
+/* 1 if `name` is a total layer (volume_indirect, surface_indirect). */
+static int vbl_render_is_total(const char* p, size_t n)
+{
+    return (n == strlen(VBL_FILM_TOTAL_VOLUME_INDIRECT) && !strncmp(p, VBL_FILM_TOTAL_VOLUME_INDIRECT, n)) ||
+           (n == strlen(VBL_FILM_TOTAL_SURFACE_INDIRECT) && !strncmp(p, VBL_FILM_TOTAL_SURFACE_INDIRECT, n));
+}
+
+/* Layer names accepted by --half-layers: beauty, the transport classes (vbl_transport_class_name),
+ * the totals, variance. */
 static int vbl_render_is_colour_layer(const char* p, size_t n)
 {
     if ((n == 6 && !strncmp(p, "beauty", 6)) || (n == 8 && !strncmp(p, "variance", 8))) return 1;
+    if (vbl_render_is_total(p, n)) return 1;
+    if (n > 11 && !strncmp(p, "lightgroup_", 11)) return 1;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
         const char* name = vbl_transport_class_name((vbl_transport_class)c);
         if (strlen(name) == n && !strncmp(p, name, n)) return 1;
@@ -144,8 +176,9 @@ static vbl_result vbl_render_check_half_layers(const char* list)
         int known = vbl_render_is_colour_layer(p, n);
         if (!known)
             return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
-                                    "--half-layers: '%.*s' is not a colour layer (beauty, emission, volume_direct, "
-                                    "volume_from_volume, ..., variance; Z and samples are always FLOAT)",
+                                    "--half-layers: '%.*s' is not a colour layer (beauty, background, volume_direct, "
+                                    "volume_from_volume, ..., volume_indirect, surface_indirect, variance; Z and "
+                                    "samples are always FLOAT)",
                                     (int)n, p);
         p += n;
         if (*p == ',') ++p;
@@ -241,7 +274,9 @@ vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_outp
     vbl_render_output* o = calloc(1, sizeof *o);
     if (!o) return vbl_report_error(VBL_ERROR_OUT_OF_MEMORY, "vbl render: out of memory");
     o->args = args;
-    vbl_result r = vbl_render_check_dir(args->output, "output EXR");
+    vbl_result r = vbl_render_check_extension(args->output, ".exr", "-o", "an OpenEXR file");
+    if (!r && args->preview) r = vbl_render_check_extension(args->preview, ".png", "--preview", "a PNG file");
+    if (!r) r = vbl_render_check_dir(args->output, "output EXR");
     if (!r && args->preview) r = vbl_render_check_dir(args->preview, "preview PNG");
     if (!r) r = vbl_render_check_half_layers(args->half_layers);
     if (!r) r = vbl_render_hash_scene(args->scene_path, o->scene_hash);
@@ -295,11 +330,21 @@ void vbl_render_output_destroy(vbl_render_output* o)
 
 /* ---- layers ------------------------------------------------------------------------------ */
 
-typedef enum { VBL_KIND_BEAUTY, VBL_KIND_TRANSPORT, VBL_KIND_Z, VBL_KIND_SAMPLES, VBL_KIND_VARIANCE } vbl_layer_kind;
+typedef enum {
+    VBL_KIND_BEAUTY,
+    VBL_KIND_TRANSPORT,
+    VBL_KIND_Z,
+    VBL_KIND_SAMPLES,
+    VBL_KIND_VARIANCE,
+    VBL_KIND_TOTAL, /* volume_indirect, surface_indirect: sums of transport layers */
+    VBL_KIND_GROUP  /* lightgroup_<name>: a light group's beauty (not re-summed) */
+} vbl_layer_kind;
 
 static vbl_layer_kind vbl_render_layer_kind(const char* name)
 {
     if (!name[0]) return VBL_KIND_BEAUTY;
+    if (vbl_render_is_total(name, strlen(name))) return VBL_KIND_TOTAL;
+    if (!strncmp(name, "lightgroup_", 11)) return VBL_KIND_GROUP;
     if (!strcmp(name, "Z")) return VBL_KIND_Z;
     if (!strcmp(name, "samples")) return VBL_KIND_SAMPLES;
     if (!strcmp(name, "variance")) return VBL_KIND_VARIANCE;
@@ -328,6 +373,10 @@ static vbl_result vbl_render_layers_make(const vbl_render_output* o, const vbl_f
 {
     memset(L, 0, sizeof *L);
     const size_t n = (size_t)vbl_film_width(film) * (size_t)vbl_film_height(film);
+    vbl_film_stats stats;
+    memset(&stats, 0, sizeof stats);
+    stats.size = sizeof stats;
+    vbl_film_get_stats(film, &stats);
     int beauty = -1, transport_count = 0;
     for (int i = 0; i < vbl_film_layer_count(film) && L->count < VBL_RENDER_MAX_LAYERS; ++i) {
         const char* name = vbl_film_layer_name(film, i);
@@ -367,9 +416,28 @@ static vbl_result vbl_render_layers_make(const vbl_render_output* o, const vbl_f
         for (size_t p = 0; p < n; ++p) {
             float sum[3] = {0.0f, 0.0f, 0.0f};
             for (int k = 0; k < L->count; ++k)
-                if (L->kinds[k] == VBL_KIND_TRANSPORT)
+                if (L->kinds[k] == VBL_KIND_TRANSPORT &&
+                    !(stats.transparent && !strcmp(L->names[k], vbl_transport_class_name(VBL_CLASS_BACKGROUND))))
                     for (int c = 0; c < 3; ++c) sum[c] += L->pixels[k][p * (size_t)L->channels[k] + (size_t)c];
             for (int c = 0; c < 3; ++c) b[p * (size_t)L->channels[beauty] + (size_t)c] = sum[c];
+        }
+    }
+    /* the totals, re-summed from the converted classes (class order, float) as the film sums them */
+    for (int t = 0; o->convert && t < L->count; ++t) {
+        if (L->kinds[t] != VBL_KIND_TOTAL || !L->owned[t]) continue;
+        const int volume = !strcmp(L->names[t], VBL_FILM_TOTAL_VOLUME_INDIRECT);
+        static const char* const volume_members[2] = {"volume_from_surface", "volume_from_volume"};
+        static const char* const surface_members[2] = {"surface_from_surface", "surface_from_volume"};
+        const char* const* members = volume ? volume_members : surface_members;
+        const float* src[2] = {NULL, NULL};
+        for (int k = 0; k < L->count; ++k)
+            for (int m = 0; m < 2; ++m)
+                if (L->kinds[k] == VBL_KIND_TRANSPORT && !strcmp(L->names[k], members[m])) src[m] = L->pixels[k];
+        for (size_t v = 0; v < 3 * n; ++v) {
+            float sum = 0.0f;
+            for (int m = 0; m < 2; ++m)
+                if (src[m]) sum += src[m][v];
+            L->owned[t][v] = sum;
         }
     }
     return VBL_SUCCESS;
@@ -512,7 +580,20 @@ static void vbl_render_meta_make(const vbl_render_output* o, const vbl_film_stat
     vbl_render_meta_add(m, "vbl:max_bounces", NULL, I, options->max_bounces, 0.0);
     vbl_render_meta_add(m, "vbl:transmittance", vbl_transmittance_estimator_name(options->transmittance), S, 0, 0.0);
     vbl_render_meta_add(m, "vbl:render_seconds", NULL, D, 0, wall_seconds);
-    vbl_render_meta_add(m, "vbl:alpha", "premultiplied; A = 1 - transmittance along the camera ray", S, 0, 0.0);
+    vbl_render_meta_add(m, "vbl:alpha",
+                        options->transparent
+                            ? "premultiplied; A = 1 - transmittance along the camera ray; the beauty leaves out the "
+                              "background layer (transparent)"
+                            : "premultiplied; A = 1 - transmittance along the camera ray (1 where a background layer "
+                              "is rendered: it is in the beauty)",
+                        S, 0, 0.0);
+    if (options->transparent) vbl_render_meta_add(m, "vbl:transparent", NULL, I, 1, 0.0);
+    if (o->have_camera) {
+        vbl_render_meta_add(m, "worldToCamera", NULL, VBL_EXR_ATTRIBUTE_M44F, 0, 0.0);
+        m->attrs[m->count - 1].m44 = o->world_to_camera;
+        vbl_render_meta_add(m, "worldToNDC", NULL, VBL_EXR_ATTRIBUTE_M44F, 0, 0.0);
+        m->attrs[m->count - 1].m44 = o->world_to_ndc;
+    }
     vbl_render_meta_add(m, "vbl:scene_color_space", o->scene_space ? o->scene_space : "scene_linear", S, 0, 0.0);
     /* written by the EXR writer from write options; listed here for the identity checks */
     if (o->output_space) vbl_render_meta_add(m, "oiio:ColorSpace", o->output_space, S, 0, 0.0);
@@ -543,7 +624,7 @@ vbl_result vbl_render_output_check_resume(vbl_render_output* o, const vbl_scene*
     memset(&stats, 0, sizeof stats);
     stats.method = options->method;
     stats.spp = options->spp;
-    stats.light_paths = options->light_paths;
+    stats.light_paths = vbl_render_options_light_paths(options);
     stats.seed = options->seed;
     vbl_render_meta m;
     vbl_render_meta_make(o, &stats, options, 0, options->first_pass, 0, "checkpoint", 0.0, &m);

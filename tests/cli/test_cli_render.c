@@ -13,9 +13,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli_test_util.h"
 #include "vbl_exr.h"
+#include "vbl/vbl.h"
 #ifdef VBL_TEST_HAVE_COLOR
 #include "vbl_color.h"
 #endif
@@ -73,10 +75,10 @@ static const char* attr(const vbl_exr_image* img, const char* name)
     return v;
 }
 
-/* Beauty R,G,B == float sum emission + volume_direct + volume_from_volume, in that order. */
+/* Beauty R,G,B == float sum background + volume_direct + volume_from_volume, in that order. */
 static void assert_layers_sum(const vbl_exr_image* img)
 {
-    static const char* const layers[3] = {"emission", "volume_direct", "volume_from_volume"};
+    static const char* const layers[3] = {"background", "volume_direct", "volume_from_volume"};
     static const char* const rgb[3] = {"R", "G", "B"};
     int nonzero = 0;
     for (int c = 0; c < 3; ++c) {
@@ -106,10 +108,11 @@ static void test_layers_metadata_aovs_preview(void** state)
     vbl_exr_image* img = render_and_read("full.exr", extra);
     assert_int_equal(vbl_exr_image_width(img), W);
     assert_int_equal(vbl_exr_image_height(img), H);
-    static const char* const expected[] = {"A", "B", "G", "R", "Z", "emission.B", "emission.G", "emission.R",
+    static const char* const expected[] = {"A", "B", "G", "R", "Z", "background.B", "background.G", "background.R",
                                            "samples.Y", "variance.B", "variance.G", "variance.R",
                                            "volume_direct.B", "volume_direct.G", "volume_direct.R",
-                                           "volume_from_volume.B", "volume_from_volume.G", "volume_from_volume.R"};
+                                           "volume_from_volume.B", "volume_from_volume.G", "volume_from_volume.R",
+                                           "volume_indirect.B",    "volume_indirect.G",    "volume_indirect.R"};
     int n = (int)(sizeof expected / sizeof expected[0]);
     assert_int_equal(vbl_exr_image_channel_count(img), n);
     for (int i = 0; i < n; ++i) {
@@ -127,10 +130,9 @@ static void test_layers_metadata_aovs_preview(void** state)
         assert_true(a[i] >= 0.0f && a[i] <= 1.0f);
         assert_true(s[i] == 4.0f);
         assert_true(v[i] >= 0.0f && isfinite(v[i]));
-        if (z[i] > 0.0f) {
-            ++hits;
-            assert_true(z[i] > 2.5f && z[i] < 6.0f);
-        }
+        if (z[i] == VBL_FILM_Z_MISS) continue; /* no collision: Cycles' large background depth */
+        ++hits;
+        assert_true(z[i] > 2.5f && z[i] < 6.0f);
     }
     assert_true(hits > W * H / 8);
     assert_true(a[(H / 2) * W + W / 2] > 0.5f);
@@ -188,7 +190,7 @@ static void test_storage_options(void** state)
 {
     (void)state;
     vbl_exr_image* img = render_and_read("plain.exr", "");
-    assert_int_equal(vbl_exr_image_channel_count(img), 13);
+    assert_int_equal(vbl_exr_image_channel_count(img), 16); /* beauty, 3 classes, volume_indirect */
     assert_true(vbl_exr_image_find_channel(img, "Z") < 0);
     assert_true(vbl_exr_image_find_channel(img, "samples.Y") < 0);
     assert_true(vbl_exr_image_find_channel(img, "variance.R") < 0);
@@ -209,11 +211,11 @@ static void test_storage_options(void** state)
     }
     vbl_exr_image_release(img);
 
-    img = render_and_read("some.exr", "--half-layers emission,beauty --compression none");
+    img = render_and_read("some.exr", "--half-layers background,beauty --compression none");
     assert_int_equal(vbl_exr_image_compression(img), VBL_EXR_COMPRESSION_NONE);
     for (int i = 0; i < vbl_exr_image_channel_count(img); ++i) {
         const char* name = vbl_exr_image_channel_name(img, i);
-        int want_half = !strchr(name, '.') || !strncmp(name, "emission.", 9);
+        int want_half = !strchr(name, '.') || !strncmp(name, "background.", 11);
         if (vbl_exr_image_channel_is_half(img, i) != want_half) fail_msg("channel %s half = %d", name, !want_half);
     }
     vbl_exr_image_release(img);
@@ -327,11 +329,105 @@ static void test_scene_color_space(void** state)
 }
 #endif
 
+
+/* Beauty R,G,B == float sum of the class layers but the background (--transparent), in class order. */
+static void assert_transparent_sum(const vbl_exr_image* img)
+{
+    static const char* const layers[2] = {"volume_direct", "volume_from_volume"};
+    static const char* const rgb[3] = {"R", "G", "B"};
+    char name[64];
+    for (int c = 0; c < 3; ++c) {
+        const float* beauty = channel(img, rgb[c]);
+        snprintf(name, sizeof name, "background.%s", rgb[c]);
+        const float* bg = channel(img, name);
+        const float* l[2];
+        for (int k = 0; k < 2; ++k) {
+            snprintf(name, sizeof name, "%s.%s", layers[k], rgb[c]);
+            l[k] = channel(img, name);
+        }
+        int sky = 0;
+        for (int i = 0; i < W * H; ++i) {
+            float sum = l[0][i] + l[1][i];
+            if (sum != beauty[i]) fail_msg("pixel %d channel %s: layers sum %.9g, beauty %.9g", i, rgb[c], sum, beauty[i]);
+            sky += bg[i] > 0.0f;
+        }
+        assert_true(sky > W * H / 2); /* the background is rendered, only not in the beauty */
+    }
+}
+
+/* --transparent, --opt=value, worldToCamera / worldToNDC, the output extension check and
+ * vbl merge of transparent parts. */
+static void test_transparent_camera_extension(void** state)
+{
+    (void)state;
+    vbl_exr_image* img = render_and_read("clear.exr", "--transparent=on --passes=2 --spp 1 --seed 3 --aov=z");
+    assert_transparent_sum(img);
+    assert_string_equal(attr(img, "vbl:transparent"), "1");
+    const float* a = channel(img, "A");
+    assert_true(a[0] < 1.0f); /* the corner sees the sky through thin or no smoke */
+    int type = -1;
+    const char* m = vbl_exr_image_attribute(img, "worldToCamera", &type);
+    assert_non_null(m);
+    assert_int_equal(type, VBL_EXR_ATTRIBUTE_M44F);
+    float e[16];
+    const char* p = m;
+    for (int k = 0; k < 16; ++k) {
+        char* end = NULL;
+        e[k] = strtof(p, &end);
+        assert_true(end != p);
+        p = end;
+    }
+    assert_true(e[15] == 1.0f && e[3] == 0.0f && e[7] == 0.0f && e[11] == 0.0f); /* affine, row vectors */
+    assert_non_null(vbl_exr_image_attribute(img, "worldToNDC", &type));
+    assert_int_equal(type, VBL_EXR_ATTRIBUTE_M44F);
+    vbl_exr_image_release(img);
+
+    /* vbl merge of two transparent pass ranges keeps the rules and the metadata */
+    char args[4096];
+    char* log = NULL;
+    for (int part = 0; part < 2; ++part) {
+        snprintf(args, sizeof args, "'%s' -o '%s' -q --transparent on --passes 2 --spp 1 --seed 3 --pass-range %d-%d",
+                 scene, ct_path(dir, part ? "part1.exr" : "part0.exr"), part, part);
+        assert_int_equal(ct_render(args, &log), 0);
+        free(log);
+    }
+    snprintf(args, sizeof args, "merge '%s' '%s' '%s' -q", ct_path(dir, "merged.exr"), ct_path(dir, "part0.exr"),
+             ct_path(dir, "part1.exr"));
+    if (ct_vbl_run(args, &log, 1) != 0) fail_msg("vbl %s:\n%s", args, log ? log : "");
+    free(log);
+    img = NULL;
+    assert_int_equal(vbl_exr_read(ct_path(dir, "merged.exr"), &img), VBL_SUCCESS);
+    assert_transparent_sum(img);
+    assert_string_equal(attr(img, "vbl:transparent"), "1");
+    assert_non_null(vbl_exr_image_attribute(img, "worldToNDC", &type));
+    assert_int_equal(type, VBL_EXR_ATTRIBUTE_M44F);
+    vbl_exr_image_release(img);
+
+    /* the format is the option's, not the name's: -o x.png / --preview x.jpg are refused (exit 2)
+     * before anything is rendered or written */
+    static const char* const bad[3] = {"-o '%s/out.png'", "-o '%s/out'", "-o '%s/ok.exr' --preview '%s/p.jpg'"};
+    for (int k = 0; k < 3; ++k) {
+        char o[2048];
+        snprintf(o, sizeof o, bad[k], dir, dir);
+        snprintf(args, sizeof args, "'%s' %s -q --passes 1", scene, o);
+        assert_int_equal(ct_render(args, &log), 2);
+        if (!log || !strstr(log, k == 2 ? "PNG" : "OpenEXR")) fail_msg("%s:\n%s", args, log ? log : "");
+        free(log);
+    }
+    assert_int_equal(access(ct_path(dir, "out.png"), F_OK), -1);
+    assert_int_equal(access(ct_path(dir, "ok.exr"), F_OK), -1);
+    /* --opt=value for flags without a value is refused */
+    snprintf(args, sizeof args, "'%s' -o '%s' -q --resume=yes", scene, ct_path(dir, "r.exr"));
+    assert_int_equal(ct_render(args, &log), 2);
+    free(log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_layers_metadata_aovs_preview),
         cmocka_unit_test(test_storage_options),
+        cmocka_unit_test(test_transparent_camera_extension),
 #ifdef VBL_TEST_HAVE_COLOR
         cmocka_unit_test(test_output_space),
         cmocka_unit_test(test_scene_color_space),

@@ -86,7 +86,7 @@ static void assert_readable_checkpoint(const char* out, const char* status_a, co
     assert_true(atoi(passes) >= 1);
     assert_string_equal(vbl_exr_image_attribute(img, "vbl:passes_requested", NULL), "100000");
     const float* r = vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "R"));
-    const float* e = vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "emission.R"));
+    const float* e = vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "background.R"));
     const float* d = vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "volume_direct.R"));
     const float* m = vbl_exr_image_channel_pixels(img, vbl_exr_image_find_channel(img, "volume_from_volume.R"));
     assert_true(r && e && d && m);

@@ -40,9 +40,9 @@ static void write_test_file(const char* path, vbl_exr_compression comp, int tile
         layers[l] = (vbl_exr_layer){names[l], cc, NULL, px[l], l == 2};
     }
     vbl_exr_attribute attrs[] = {
-        {"software", "vbl test", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
-        {"vbl:seed", NULL, VBL_EXR_ATTRIBUTE_INT, 1234, 0.0},
-        {"vbl:renderTime", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, 3.5},
+        {"software", "vbl test", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
+        {"vbl:seed", NULL, VBL_EXR_ATTRIBUTE_INT, 1234, 0.0, NULL},
+        {"vbl:renderTime", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, 3.5, NULL},
     };
     const float chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
     vbl_exr_write_options opt = VBL_EXR_WRITE_OPTIONS_DEFAULT;

@@ -81,10 +81,10 @@ static void roundtrip(vbl_exr_compression comp, int tiled, int tile_size, int w,
     layers[3].name = vbl_transport_class_name(VBL_CLASS_VOLUME_DIRECT);
     const float chroma[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
     vbl_exr_attribute attrs[] = {
-        {"software", "vbl 0.1.0", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
-        {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, 64, 0.0},
-        {"vbl:renderTime", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, 12.625},
-        {"vbl:scene", "/scenes/a very long scene path/cloud.json", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0},
+        {"software", "vbl 0.1.0", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
+        {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, 64, 0.0, NULL},
+        {"vbl:renderTime", NULL, VBL_EXR_ATTRIBUTE_DOUBLE, 0, 12.625, NULL},
+        {"vbl:scene", "/scenes/a very long scene path/cloud.json", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL},
     };
     vbl_exr_write_options opt = VBL_EXR_WRITE_OPTIONS_DEFAULT;
     opt.compression = comp;
@@ -111,7 +111,7 @@ static void roundtrip(vbl_exr_compression comp, int tiled, int tile_size, int w,
     /* EXR keeps channels sorted by name. */
     assert_string_equal(vbl_exr_image_channel_name(img, 0), "A");
     assert_string_equal(vbl_exr_image_channel_name(img, 4), "Z");
-    assert_string_equal(vbl_exr_image_channel_name(img, 5), "emission.B");
+    assert_string_equal(vbl_exr_image_channel_name(img, 5), "background.B");
     /* DWAA is lossy for R,G,B-named channels only; other channels and codecs are exact. */
     float t_rgb = tolerance;
     check_channel(img, "R", 0, beauty, 4, 0, t_rgb);
@@ -119,8 +119,8 @@ static void roundtrip(vbl_exr_compression comp, int tiled, int tile_size, int w,
     check_channel(img, "B", 0, beauty, 4, 2, t_rgb);
     check_channel(img, "A", 0, beauty, 4, 3, 0.0f);
     check_channel(img, "Z", 0, depth, 1, 0, 0.0f);
-    check_channel(img, "emission.R", 1, emission, 3, 0, t_rgb);
-    check_channel(img, "emission.G", 1, emission, 3, 1, t_rgb);
+    check_channel(img, "background.R", 1, emission, 3, 0, t_rgb);
+    check_channel(img, "background.G", 1, emission, 3, 1, t_rgb);
     check_channel(img, "volume_direct.B", 1, vdirect, 3, 2, t_rgb);
 
     int type = -2;
@@ -163,7 +163,7 @@ static void test_layers_sum_to_beauty_in_float(void** s)
 {
     (void)s;
     const int w = 19, h = 11, n = w * h;
-    static const char* const names[7] = {"emission", "surface_direct", "volume_direct", "surface_from_surface",
+    static const char* const names[7] = {"background", "surface_direct", "volume_direct", "surface_from_surface",
                                          "surface_from_volume", "volume_from_surface", "volume_from_volume"};
     float* layer_px[7];
     float* beauty = calloc((size_t)n * 4, sizeof(float));
@@ -241,7 +241,7 @@ static void test_repeated_writes_replace_atomically(void** s)
     for (int pass = 1; pass <= 5; ++pass) {
         for (int i = 0; i < 24; ++i) px[i] = (float)(pass * 100 + i);
         vbl_exr_layer layer = {"", 4, NULL, px, 0};
-        vbl_exr_attribute a = {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, pass, 0.0};
+        vbl_exr_attribute a = {"vbl:passes", NULL, VBL_EXR_ATTRIBUTE_INT, pass, 0.0, NULL};
         vbl_exr_write_options opt = VBL_EXR_WRITE_OPTIONS_DEFAULT;
         opt.attributes = &a;
         opt.attribute_count = 1;
@@ -348,7 +348,7 @@ static void test_invalid_input(void** s)
     assert_int_equal(vbl_exr_write(path, 1, 1, &five, 1, NULL), VBL_ERROR_INVALID_ARGUMENT);
     vbl_exr_layer ok = {"x", 4, NULL, px, 0};
     assert_int_equal(vbl_exr_write(path, 0, 1, &ok, 1, NULL), VBL_ERROR_INVALID_ARGUMENT);
-    vbl_exr_attribute reserved = {"channels", "x", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0};
+    vbl_exr_attribute reserved = {"channels", "x", VBL_EXR_ATTRIBUTE_STRING, 0, 0.0, NULL};
     vbl_exr_write_options opt = VBL_EXR_WRITE_OPTIONS_DEFAULT;
     opt.attributes = &reserved;
     opt.attribute_count = 1;

@@ -5,6 +5,10 @@
 
 #include <vbl/vbl.h>
 
+#ifdef VBL_ABI_NATIVE
+#include "vbl_python_native.h" /* libvbl_python: the package's C side */
+#endif
+
 #define SIZE(T) printf("%s %zu\n", #T, sizeof(T))
 #define OFF(T, f) printf("%s.%s %zu\n", #T, #f, offsetof(T, f))
 
@@ -32,5 +36,13 @@ int main(void)
     OFF(vbl_film_stats, time_limited);
     OFF(vbl_film_stats, first_pass);
     OFF(vbl_film_stats, discarded_pass);
+#ifdef VBL_ABI_NATIVE
+    SIZE(vbl_py_exr_options);
+    OFF(vbl_py_exr_options, passes_requested);
+    OFF(vbl_py_exr_options, half_layers);
+    OFF(vbl_py_exr_options, aov_variance);
+    OFF(vbl_py_exr_options, color);
+    OFF(vbl_py_exr_options, output_space);
+#endif
     return 0;
 }

@@ -68,7 +68,7 @@ static double compare_images(const char* path_a, const char* path_b, double tole
         }
     }
     static const char* const rgb[3] = {"R", "G", "B"};
-    static const char* const layers[3] = {"emission", "volume_direct", "volume_from_volume"};
+    static const char* const layers[3] = {"background", "volume_direct", "volume_from_volume"};
     for (int k = 0; k < 3; ++k) {
         const float* beauty = vbl_exr_image_channel_pixels(a, vbl_exr_image_find_channel(a, rgb[k]));
         const float* t[3];

@@ -4,6 +4,7 @@ box.vdb), scenes (render options, overrides), renders (layers sum to beauty, fin
 Run by ctest with PYTHONPATH, VBL_LIBRARY, VBL_FIXTURE_DIR and VBL_ABI_SIZES set; exits 77
 (skipped) without numpy."""
 
+import ctypes
 import json
 import math
 import os
@@ -52,7 +53,9 @@ class TestLayout(unittest.TestCase):
                    "vbl_transmittance_options": vbl._TransmittanceOptions,
                    "vbl_transmittance_result": vbl._TransmittanceResult,
                    "vbl_scene_load_options": vbl._SceneLoadOptions, "vbl_render_progress": vbl._RenderProgress,
-                   "vbl_render_option_info": vbl._OptionInfo, "vbl_film_stats": vbl._FilmStats}
+                   "vbl_render_option_info": vbl._OptionInfo, "vbl_film_stats": vbl._FilmStats,
+                   "vbl_py_exr_options": vbl._native._ExrOptions}
+        sizes = dict(vbl.STRUCT_SIZES, vbl_py_exr_options=ctypes.sizeof(vbl._native._ExrOptions))
         lines = subprocess.run([helper], check=True, stdout=subprocess.PIPE, universal_newlines=True).stdout
         checked = 0
         for line in lines.split("\n"):
@@ -63,7 +66,7 @@ class TestLayout(unittest.TestCase):
                 struct, field = name.split(".")
                 self.assertEqual(getattr(structs[struct], field).offset, int(value), name)
             else:
-                self.assertEqual(vbl.STRUCT_SIZES[name], int(value), name)
+                self.assertEqual(sizes[name], int(value), name)
             checked += 1
         self.assertGreater(checked, 15)
 
@@ -86,7 +89,7 @@ class TestOptionsTable(unittest.TestCase):
             self.assertTrue(row["help"], row["name"])
 
     def test_defaults_set_get_round_trip(self):
-        options = vbl._Options()
+        options = vbl._options.Options()
         values = options.to_dict()
         self.assertEqual(values["method"], "pt")
         self.assertEqual(values["passes"], 16)
@@ -176,12 +179,12 @@ class TestRender(unittest.TestCase):
         scene = vbl.Scene(self.scene_path)
         film = vbl.render(scene, threads=2)
         self.assertEqual((film.width, film.height), (16, 12))
-        self.assertIn("", film.layers)
+        self.assertIn("", film.layer_names)
         beauty = film.layer("")
         self.assertEqual(beauty.dtype, numpy.float32)
         self.assertEqual(beauty.shape[:2], (12, 16))
         self.assertTrue(numpy.all(numpy.isfinite(beauty)))
-        transport = [n for n in ("emission", "volume_direct", "volume_from_volume") if n in film.layers]
+        transport = [n for n in ("background", "volume_direct", "volume_from_volume") if n in film.layers]
         self.assertTrue(transport, film.layers)
         total = numpy.zeros((12, 16, 3), dtype=numpy.float32)
         for name in transport:  # the documented order: the sum is exact in float
@@ -226,8 +229,8 @@ class TestRender(unittest.TestCase):
         merged = vbl.merge(parts)
         self.assertEqual(merged.stats["passes"], 4)
         self.assertEqual(merged.stats["first_pass"], 0)
-        self.assertEqual(merged.layers, single.layers)
-        for name in single.layers:
+        self.assertEqual(merged.layer_names, single.layer_names)
+        for name in single.layer_names:
             if name in ("variance", "Z"):
                 continue
             a, b = merged.layer(name), single.layer(name)

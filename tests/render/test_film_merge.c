@@ -272,7 +272,7 @@ static void test_film_from_pixels_rules(void** state)
 static void test_transport_class_names(void** state)
 {
     (void)state;
-    static const char* const expected[VBL_CLASS_COUNT] = {"emission",          "surface_direct",
+    static const char* const expected[VBL_CLASS_COUNT] = {"background",        "surface_direct",
                                                           "volume_direct",     "surface_from_surface",
                                                           "surface_from_volume", "volume_from_surface",
                                                           "volume_from_volume",  "volume_emission"};

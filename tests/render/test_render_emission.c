@@ -386,7 +386,7 @@ static void test_fire_cache_end_to_end(void** state)
     }
     int w = vbl_film_width(films[0]), h = vbl_film_height(films[0]), c = 0;
     const float* beauty = vbl_film_layer(films[0], "", &c);
-    assert_null(vbl_film_layer(films[0], "emission", &c));
+    assert_null(vbl_film_layer(films[0], "background", &c));
     const char* layers[] = {"emission", "volume_emission", "volume_direct", "volume_from_volume", "surface_direct",
                             "surface_from_surface", "surface_from_volume", "volume_from_surface"};
     double emitted = 0.0, ground = 0.0;

@@ -155,6 +155,47 @@ static void test_render_validates(void** state)
     vbl_scene_release(scene);
 }
 
+/* light_paths 0 (the default) is the method's count, which films record (vbl:light_paths). */
+static void test_light_paths_method_default(void** state)
+{
+    (void)state;
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(o.light_paths, 0);
+    const struct {
+        vbl_render_method method;
+        int light_paths;
+    } want[] = {{VBL_RENDER_PT, VBL_LIGHT_PATHS_DEFAULT},       {VBL_RENDER_VPL, VBL_LIGHT_PATHS_DEFAULT},
+                {VBL_RENDER_VRL, VBL_LIGHT_PATHS_DEFAULT_VRL},  {VBL_RENDER_VBL, VBL_LIGHT_PATHS_DEFAULT_VBL},
+                {VBL_RENDER_BEAMS, VBL_LIGHT_PATHS_DEFAULT}};
+    assert_int_equal(VBL_LIGHT_PATHS_DEFAULT, 10000);
+    assert_true(VBL_LIGHT_PATHS_DEFAULT_VRL >= 1 && VBL_LIGHT_PATHS_DEFAULT_VRL <= 100);
+    assert_true(VBL_LIGHT_PATHS_DEFAULT_VBL >= 1 && VBL_LIGHT_PATHS_DEFAULT_VBL <= 100);
+    assert_int_equal(vbl_render_options_light_paths(NULL), 0);
+    vbl_scene* scene = NULL;
+    assert_int_equal(load_text("lp.json", "{" CAMERA "}", &scene), VBL_SUCCESS);
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; ++i) {
+        o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
+        o.method = want[i].method;
+        assert_int_equal(vbl_render_options_light_paths(&o), want[i].light_paths);
+        o.light_paths = 7;
+        assert_int_equal(vbl_render_options_light_paths(&o), 7);
+        /* the film records the count the render used */
+        o.light_paths = 0;
+        o.passes = 1;
+        o.spp = 1;
+        o.threads = 1;
+        vbl_film* film = NULL;
+        assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
+        vbl_film_stats st;
+        memset(&st, 0, sizeof st);
+        st.size = sizeof st;
+        assert_int_equal(vbl_film_get_stats(film, &st), VBL_SUCCESS);
+        assert_int_equal(st.light_paths, want[i].light_paths);
+        vbl_film_release(film);
+    }
+    vbl_scene_release(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -162,6 +203,7 @@ int main(void)
         cmocka_unit_test(test_parse_fields),
         cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_render_validates),
+        cmocka_unit_test(test_light_paths_method_default),
     };
     return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }

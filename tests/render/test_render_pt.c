@@ -332,7 +332,7 @@ static void test_layers_sum_and_determinism(void** state)
         assert_memory_equal(p0, p1, sizeof(float) * 16 * 16 * c0);
     }
     /* layers present and summing to the beauty exactly in float */
-    const float* e = vbl_film_layer_rgb(films[0], "emission");
+    const float* e = vbl_film_layer_rgb(films[0], "background");
     const float* d = vbl_film_layer_rgb(films[0], "volume_direct");
     const float* m = vbl_film_layer_rgb(films[0], "volume_from_volume");
     int c = 0;

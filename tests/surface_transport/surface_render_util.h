@@ -16,7 +16,7 @@
 #include "vbl/vbl.h"
 
 static const char* const layer_names[VBL_CLASS_COUNT] = {
-    "emission",           "surface_direct",      "volume_direct",     "surface_from_surface",
+    "background",          "surface_direct",      "volume_direct",     "surface_from_surface",
     "surface_from_volume", "volume_from_surface", "volume_from_volume", "volume_emission"};
 
 /* The quad c +- u +- v (two triangles) with material m. */

@@ -198,7 +198,7 @@ static void test_layers_sum_and_finite(void** state)
     assert_int_equal(vbl_scene_add_light(scene, &l), VBL_SUCCESS);
     vbl_light q = quad_light(vbl_v3(1.0, -1.0, 3.5), vbl_v3(0.5, 0, 0), vbl_v3(0, -0.5, 0), 20.0); /* faces down */
     assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
-    static const char* const names[7] = {"emission", "surface_direct", "volume_direct", "surface_from_surface",
+    static const char* const names[7] = {"background", "surface_direct", "volume_direct", "surface_from_surface",
                                          "surface_from_volume", "volume_from_surface", "volume_from_volume"};
     const vbl_render_method methods[3] = {VBL_RENDER_PT, VBL_RENDER_VRL, VBL_RENDER_VPL};
     for (int mi = 0; mi < 3; ++mi) {
@@ -245,7 +245,7 @@ static void test_layout(void** state)
     assert_non_null(vbl_film_layer_rgb(film, "surface_from_surface"));
     assert_null(vbl_film_layer_rgb(film, "volume_from_surface")); /* no media */
     assert_null(vbl_film_layer_rgb(film, "volume_direct"));
-    assert_null(vbl_film_layer_rgb(film, "emission"));
+    assert_null(vbl_film_layer_rgb(film, "background"));
     assert_true(layer_max_abs(film, "surface_from_surface") == 0.0); /* one plane: no interreflection */
     vbl_film_release(film);
     vbl_scene_release(scene);

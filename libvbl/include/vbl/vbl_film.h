@@ -6,8 +6,9 @@
  *   vbl_film* all;  vbl_film_merge(parts, 2, &all);   // = vbl_render of passes 0..7, to float rounding
  *
  * Layer names (docs/readme/output.md, "Layers", maps them to Cycles passes and LPE AOVs): "" the
- * beauty R,G,B,A; one layer per transport class (vbl_transport_class_name); "Z"; "samples" (Y);
- * "variance" (R,G,B). Included by vbl.h. */
+ * beauty R,G,B,A; one layer per transport class (vbl_transport_class_name); the totals
+ * "volume_indirect" and "surface_indirect" (VBL_FILM_TOTAL_*); "Z"; "samples" (Y); "variance"
+ * (R,G,B). Included by vbl.h. */
 #ifndef VBL_FILM_H
 #define VBL_FILM_H
 
@@ -19,11 +20,16 @@ extern "C" {
 
 /* ---- transport classes ----------------------------------------------------------------- */
 
-/* Light-transport classes = film layers; they sum to the beauty, in this order. A class is named
- * by the last two path vertices before the camera: `surface_*` classes end on a surface seen by
- * the camera, `volume_*` on a medium vertex. */
+/* Light-transport classes = film layers; they sum to the beauty, in this order (with
+ * options.transparent the beauty leaves out `background`). A class is named by the last two path
+ * vertices before the camera: `surface_*` classes end on a surface seen by the camera, `volume_*`
+ * on a medium vertex. Emitted light: `background` holds the light sources seen directly (the
+ * environment and visible quad lights, attenuated by the media in front of them: Cycles' Env
+ * pass plus lamps seen by the camera); light emitted by the media is `volume_emission` (Cycles'
+ * Emit pass of a volume). There is no layer "emission" any more (before 0.x it held what
+ * `background` holds). */
 typedef enum vbl_transport_class {
-    VBL_CLASS_EMISSION = 0,             /* lights/environment seen directly (attenuated) */
+    VBL_CLASS_BACKGROUND = 0,           /* environment and visible lights seen directly (attenuated) */
     VBL_CLASS_SURFACE_DIRECT = 1,       /* camera-visible surface lit directly */
     VBL_CLASS_VOLUME_DIRECT = 2,        /* scattered exactly once in the media */
     VBL_CLASS_SURFACE_FROM_SURFACE = 3, /* camera-visible surface lit by a surface bounce */
@@ -34,7 +40,22 @@ typedef enum vbl_transport_class {
     VBL_CLASS_COUNT = 8
 } vbl_transport_class;
 
-/* The layer name of a class ("emission", "surface_direct", "volume_direct", ...); NULL out of range. */
+/* The old name of VBL_CLASS_BACKGROUND (source compatibility; the layer is "background"). */
+#define VBL_CLASS_EMISSION VBL_CLASS_BACKGROUND
+
+/* Totals, film layers of their own computed as exact float sums of their classes (present when
+ * one of the classes is): "volume_indirect" = volume_from_surface + volume_from_volume,
+ * "surface_indirect" = surface_from_surface + surface_from_volume (Cycles' Volume/Diffuse
+ * Indirect). They are not transport classes: do not add them to the beauty. */
+#define VBL_FILM_TOTAL_VOLUME_INDIRECT "volume_indirect"   /* volume_from_surface + volume_from_volume */
+#define VBL_FILM_TOTAL_SURFACE_INDIRECT "surface_indirect" /* surface_from_surface + surface_from_volume */
+
+/* Z of a pixel where no camera sample hit anything (no collision in the media, no surface): a
+ * large depth, as Cycles writes for the background (Nuke's ZDefocus and deep tools read it as
+ * infinitely far). */
+#define VBL_FILM_Z_MISS 1.0e10f
+
+/* The layer name of a class ("background", "surface_direct", "volume_direct", ...); NULL out of range. */
 VBL_API const char* vbl_transport_class_name(vbl_transport_class transport_class);
 /* The class of a layer name; VBL_ERROR_INVALID_ARGUMENT for names that are not a class. */
 VBL_API vbl_result vbl_transport_class_parse(const char* name, vbl_transport_class* out);
@@ -56,13 +77,15 @@ VBL_API vbl_result vbl_film_add_layer(vbl_film* film, const char* name, int chan
  *   transport layers, beauty A, other colour layers: sum n_i x_i / N (pass-weighted mean)
  *   samples:  sum x_i
  *   variance: sum n_i^2 x_i / N^2 (variance of the mean; the pass ranges are independent)
- *   Z:        sum n_i A_i Z_i / sum n_i A_i over films with Z_i > 0 (collision counts are not
- *             stored: approximate; no such film: sum n_i Z_i / N)
- *   beauty R,G,B: the float sum of the merged transport layers in class order, so they still sum
- *             to it exactly.
+ *   Z:        sum n_i A_i Z_i / sum n_i A_i over films with 0 < Z_i < VBL_FILM_Z_MISS (collision
+ *             counts are not stored: approximate); no such film: VBL_FILM_Z_MISS if every film
+ *             missed there, else sum n_i Z_i / N
+ *   beauty R,G,B: the float sum of the merged transport layers in class order (without
+ *             `background` for transparent films), so they still sum to it exactly; the totals
+ *             volume_indirect / surface_indirect are re-summed the same way.
  * Sums are in double, so the result is the single render's film to float rounding (each value
  * within a few float ulps), not bit-identical. The films must have the same size, layers and
- * channels, method, spp, light paths and seed, and disjoint pass ranges (first_pass .. first_pass
+ * channels, method, spp, light paths, seed and transparency, and disjoint pass ranges (first_pass .. first_pass
  * + passes - 1), else VBL_ERROR_INVALID_ARGUMENT naming the film and what differs. The result's
  * stats: passes = N, first_pass = the smallest, render_seconds summed, cancelled / time_limited if
  * any film's is. Ranges with gaps merge (an unbiased image of fewer passes). */

@@ -7,8 +7,8 @@
  *   vbl_film* film;  vbl_render(scene, &options, &film);
  *   const float* rgb = vbl_film_layer(film, "volume_direct", &channels);
  *
- * Every film layer is radiance (linear, scene-referred); the transport layers (emission,
- * volume_direct, volume_from_volume) sum to the beauty layer exactly in float, in that order. */
+ * Every film layer is radiance (linear, scene-referred); the transport layers (background,
+ * volume_direct, volume_from_volume, ...) sum to the beauty layer exactly in float, in that order. */
 #ifndef VBL_RENDER_H
 #define VBL_RENDER_H
 
@@ -51,9 +51,15 @@ typedef struct vbl_scene_load_options {
      * VBL_ERROR_FILE_NOT_FOUND naming the field, the frame and the file. */
     int frame;
     int use_frame;
+    /* Shot overrides (docs/readme/render.md, "Camera"). camera: NULL, or the name of an entry of
+     * the scene's "cameras", else a JSON file holding a camera object (or {"camera": {...}});
+     * neither: VBL_ERROR_FILE_NOT_FOUND. width, height > 0: the image size instead of the
+     * camera's resolution (the lens keeps its vertical fov, or its focal length, sensor and fit). */
+    const char* camera;
+    int width, height;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
@@ -77,11 +83,21 @@ VBL_API const char* vbl_scene_path(const vbl_scene* scene);
 VBL_API void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height);
 VBL_API int vbl_scene_light_count(const vbl_scene* scene);
 VBL_API int vbl_scene_medium_count(const vbl_scene* scene);
+/* 1 if some medium emits light (fire): the scene is lit even without lights. */
+VBL_API int vbl_scene_has_emission(const vbl_scene* scene);
 /* The resolved VDB path of media[index] (NULL if out of range). */
 VBL_API const char* vbl_scene_medium_path(const vbl_scene* scene, int index);
 /* The scene's top-level "color_space" as written (its colours were converted from it at load),
  * or NULL when the scene names none (colours are already scene_linear). */
 VBL_API const char* vbl_scene_color_space(const vbl_scene* scene);
+/* The camera as OpenEXR's standard attributes want it (ImfStandardAttributes.h; row vectors,
+ * p' = p M, matrices row-major, translation in the last row): world_to_camera maps into the
+ * left-handed camera space of RenderMan (x right, y up, z the viewing direction);
+ * world_to_ndc maps onto the image plane, (0, 0) the top-left and (1, 1) the bottom-right corner
+ * of the display window, after dividing by w (z' = the camera-space depth, before the divide).
+ * VBL_ERROR_INVALID_ARGUMENT for NULL arguments. */
+VBL_API vbl_result vbl_scene_camera_matrices(const vbl_scene* scene, double world_to_camera[16],
+                                             double world_to_ndc[16]);
 
 /* ---- render options (the table, the struct and its reflection: vbl/vbl_render_options.h) ----- */
 
@@ -96,9 +112,10 @@ VBL_API vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_o
 /* ---- film ------------------------------------------------------------------------------ */
 
 /* The result of a render: float layers, row 0 at the top, channels interleaved. Reference
- * counted, immutable. Layer names: "" (beauty R,G,B,A), "emission", "volume_direct",
- * "volume_from_volume" (R,G,B), "Z" (1 channel), "samples" (1 channel), "variance" (R,G,B);
- * only the layers the scene can produce are present. */
+ * counted, immutable. Layer names: "" (beauty R,G,B,A), the transport classes ("background",
+ * "volume_direct", "volume_from_volume", ...: vbl/vbl_film.h) and their totals (R,G,B), "Z"
+ * (1 channel), "samples" (1 channel), "variance" (R,G,B); only the layers the scene can produce
+ * are present. */
 typedef struct vbl_film vbl_film;
 
 VBL_API void vbl_film_retain(vbl_film* film);
@@ -128,8 +145,11 @@ typedef struct vbl_film_stats {
     int time_limited;             /* 1: stopped by time_limit */
     int first_pass;               /* absolute index of the first pass in this film */
     int discarded_pass;           /* 1: a pass was stopped part way (cancel / time limit) and dropped */
+    int transparent;              /* 1: options.transparent (the beauty leaves out `background`) */
 } vbl_film_stats;
 
+/* out->size: sizeof(vbl_film_stats), or the size of an older struct (without the fields added
+ * since), which then receives only its own fields. */
 VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out);
 
 /* ---- rendering ------------------------------------------------------------------------- */

@@ -55,6 +55,13 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
+/* pt's random numbers for the pixel position and the light/direction sample dimensions
+ * (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+typedef enum vbl_pt_sampler {
+    VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
+    VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
+} vbl_pt_sampler;
+
 /* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
 typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_RATIO = 0, /* ratio tracking (unbiased) */
@@ -62,6 +69,10 @@ typedef enum vbl_vrl_connect {
 } vbl_vrl_connect;
 
 #define VBL_VSL_LIGHTS_DEFAULT 1024
+/* light_paths = 0: the method's default (vbl_render_options_light_paths). */
+#define VBL_LIGHT_PATHS_DEFAULT 10000
+#define VBL_LIGHT_PATHS_DEFAULT_VRL 10
+#define VBL_LIGHT_PATHS_DEFAULT_VBL 10
 
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
 typedef struct vbl_render_progress {
@@ -125,8 +136,8 @@ typedef enum vbl_render_option_effect {
     X(, passes, passes, int, INT, "passes", "--passes", 16, 1, 1e9, 0, NULL, PASSES,                         \
       "independent progressive passes")                                                                      \
     X(, spp, spp, int, INT, "spp", "--spp", 4, 1, 1e6, 0, NULL, IDENTITY, "camera samples per pixel per pass") \
-    X(, light_paths, light_paths, int, INT, "light_paths", "--light-paths", 10000, 0, 2e9, 0, NULL, IDENTITY, \
-      "light paths per pass (vpl, vrl, vbl)")                                                                \
+    X(, light_paths, light_paths, int, INT, "light_paths", "--light-paths", 0, 0, 2e9, 0, NULL, IDENTITY,     \
+      "light paths per pass (vpl, vrl, vbl, beams; 0: the method's default, vrl 10, vbl 10, others 10000)")   \
     X(, seed, seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,    \
       "random seed (scene files: at most 2^53)")                                                             \
     X(, time_limit, time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL,     \
@@ -148,12 +159,21 @@ typedef enum vbl_render_option_effect {
     X(, transmittance_majorant_scale, transmittance_majorant_scale, double, DOUBLE,                          \
       "transmittance_majorant_scale", "--transmittance-majorant-scale", 1.0, 1.0, 64.0, 0, NULL, HASH,       \
       "tracking of single transmittance estimates at k x the majorant (pt: camera-visible vertex only)")    \
-    F(, cancel, const volatile int*, NULL)
+    F(, cancel, const volatile int*, NULL)                                                                   \
+    X(, transparent, transparent, int, BOOL, "transparent", "--transparent", 0, 0, 1, 0, NULL, HASH,        \
+      "the beauty leaves out the background layer (environment and lights seen directly): a premultiplied " \
+      "element over A; without it A = 1 wherever a background is rendered")                               \
+    X(, light_groups, light_groups, int, BOOL, "light_groups", "--light-groups", 0, 0, 1, 0, NULL, HASH,    \
+      "one beauty layer per light group (lights' \"group\"; untagged lights and emissive media: default); "   \
+      "renders the groups one after another (time x groups)")
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
     X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL,   \
-      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")
+      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
+    X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
+      0, 1, 0, "independent|sobol", HASH,                                                                    \
+      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
@@ -311,6 +331,12 @@ VBL_API vbl_result vbl_render_option_get(const vbl_render_options* options, cons
 /* "fnv1a64:<16 hex digits>" of the options whose effect is HASH (written as vbl:options_hash; two
  * renders' files merge only if their hashes agree). out[size >= 25]. */
 VBL_API void vbl_render_options_hash(const vbl_render_options* options, char* out, size_t size);
+
+/* The light paths per pass a render with these options traces: options->light_paths, or where that
+ * is 0 the method's default (VBL_LIGHT_PATHS_DEFAULT_VRL, _VBL for vrl and vbl, chosen by measured
+ * error at equal time, docs/readme/vrl.md; VBL_LIGHT_PATHS_DEFAULT for the others). This is the
+ * count written to films and EXRs (vbl:light_paths). 0 for a NULL argument. */
+VBL_API int vbl_render_options_light_paths(const vbl_render_options* options);
 
 /* Heap options for bindings that do not mirror the struct: created with the defaults. */
 VBL_API vbl_result vbl_render_options_create(vbl_render_options** out_options);

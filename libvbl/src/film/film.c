@@ -1,6 +1,7 @@
 /* Film layers: accumulators -> float layers; the public vbl_film getters. */
 #include "film/film.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,7 +10,7 @@
 
 /* The one list of layer names (vbl/vbl_film.h): the film, the EXR files, vbl merge and Python use it. */
 static const char* const vbl_class_layer_names[VBL_CLASS_COUNT] = {
-    "emission",          "surface_direct",      "volume_direct",     "surface_from_surface",
+    "background",        "surface_direct",      "volume_direct",     "surface_from_surface",
     "surface_from_volume", "volume_from_surface", "volume_from_volume", "volume_emission"};
 
 const char* vbl_transport_class_name(vbl_transport_class transport_class)
@@ -25,7 +26,7 @@ vbl_result vbl_transport_class_parse(const char* name, vbl_transport_class* out)
             return VBL_SUCCESS;
         }
     return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
-                     "'%s' is not a transport class (emission, surface_direct, volume_direct, surface_from_surface, "
+                     "'%s' is not a transport class (background, surface_direct, volume_direct, surface_from_surface, "
                      "surface_from_volume, volume_from_surface, volume_from_volume, volume_emission)",
                      name ? name : "");
 }
@@ -34,7 +35,9 @@ void vbl_film_layout_for(const vbl_scene* scene, const vbl_render_options* optio
 {
     memset(layout, 0, sizeof *layout);
     int lit_media = scene->media_count > 0 && (scene->light_count > 0 || scene->has_emission);
-    layout->transport[VBL_CLASS_EMISSION] = scene->has_visible_lights;
+    layout->transport[VBL_CLASS_BACKGROUND] = scene->has_visible_lights;
+    layout->transparent = options->transparent != 0;
+    layout->opaque_alpha = scene->has_visible_lights && !options->transparent;
     layout->transport[VBL_CLASS_VOLUME_DIRECT] = lit_media && options->max_bounces != 0;
     layout->transport[VBL_CLASS_VOLUME_FROM_VOLUME] =
         lit_media && (options->max_bounces < 0 || options->max_bounces >= 2);
@@ -98,15 +101,16 @@ vbl_result vbl_film_build(const vbl_pixel_accum* accum, int width, int height, c
         float sum[3] = {0.0f, 0.0f, 0.0f};
         for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
             if (!classes[c]) continue;
+            const int in_beauty = vbl_film_class_in_beauty(c, layout->transparent);
             for (int k = 0; k < 3; ++k) {
                 float v = (float)(a->L[c][k] * inv);
                 classes[c]->pixels[3 * i + k] = v;
-                sum[k] += v;
+                if (in_beauty) sum[k] += v;
             }
         }
         for (int k = 0; k < 3; ++k) beauty->pixels[4 * i + k] = sum[k];
-        beauty->pixels[4 * i + 3] = (float)(a->alpha * inv);
-        if (depth) depth->pixels[i] = a->depth_hits > 0.0 ? (float)(a->depth / a->depth_hits) : 0.0f;
+        beauty->pixels[4 * i + 3] = layout->opaque_alpha ? 1.0f : (float)(a->alpha * inv);
+        if (depth) depth->pixels[i] = a->depth_hits > 0.0 ? (float)(a->depth / a->depth_hits) : VBL_FILM_Z_MISS;
         samples->pixels[i] = (float)a->samples;
         for (int k = 0; k < 3; ++k) {
             double var = 0.0;
@@ -118,7 +122,63 @@ vbl_result vbl_film_build(const vbl_pixel_accum* accum, int width, int height, c
             variance->pixels[3 * i + k] = (float)var;
         }
     }
+    vbl_result r = vbl_film_compute_totals(film);
+    if (r) {
+        vbl_film_release(film);
+        return r;
+    }
     *out_film = film;
+    return VBL_SUCCESS;
+}
+
+/* ---- totals ---------------------------------------------------------------------------- */
+
+const char* vbl_film_total_name(int total)
+{
+    return total == 0 ? VBL_FILM_TOTAL_VOLUME_INDIRECT : (total == 1 ? VBL_FILM_TOTAL_SURFACE_INDIRECT : NULL);
+}
+
+int vbl_film_total_has_class(int total, int c)
+{
+    if (total == 0) return c == VBL_CLASS_VOLUME_FROM_SURFACE || c == VBL_CLASS_VOLUME_FROM_VOLUME;
+    if (total == 1) return c == VBL_CLASS_SURFACE_FROM_SURFACE || c == VBL_CLASS_SURFACE_FROM_VOLUME;
+    return 0;
+}
+
+static vbl_film_layer_data* vbl_film_find_mutable(vbl_film* film, const char* name)
+{
+    for (int i = 0; i < film->layer_count; ++i)
+        if (!strcmp(film->layers[i].name, name)) return &film->layers[i];
+    return NULL;
+}
+
+vbl_result vbl_film_compute_totals(vbl_film* film)
+{
+    static const char* const rgb[3] = {"R", "G", "B"};
+    const size_t n = (size_t)film->width * (size_t)film->height;
+    for (int t = 0; t < VBL_FILM_TOTAL_COUNT; ++t) {
+        const vbl_film_layer_data* members[VBL_CLASS_COUNT];
+        int count = 0;
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+            if (!vbl_film_total_has_class(t, c)) continue;
+            vbl_film_layer_data* l = vbl_film_find_mutable(film, vbl_class_layer_names[c]);
+            if (l && l->channels == 3) members[count++] = l;
+        }
+        vbl_film_layer_data* total = vbl_film_find_mutable(film, vbl_film_total_name(t));
+        if (!count) continue;
+        if (!total) {
+            if (film->layer_count >= VBL_FILM_MAX_LAYERS)
+                return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "film: more than %d layers", VBL_FILM_MAX_LAYERS);
+            total = vbl_film_alloc_layer(film, vbl_film_total_name(t), 3, rgb);
+            if (!total) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "film: out of memory for the totals");
+        }
+        if (total->channels != 3) continue;
+        for (size_t i = 0; i < 3 * n; ++i) {
+            float sum = 0.0f;
+            for (int m = 0; m < count; ++m) sum += members[m]->pixels[i];
+            total->pixels[i] = sum;
+        }
+    }
     return VBL_SUCCESS;
 }
 
@@ -231,10 +291,12 @@ const float* vbl_film_layer_rgb(const vbl_film* film, const char* name)
 vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
 {
     if (!film || !out) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_get_stats: NULL argument");
-    if (out->size < sizeof(vbl_film_stats))
+    /* callers built before `transparent` pass the older, smaller struct: they get its fields */
+    if (out->size < offsetof(vbl_film_stats, transparent))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_get_stats: out.size is too small");
-    size_t size = out->size;
-    *out = film->stats;
-    out->size = size;
+    size_t size = out->size < sizeof(vbl_film_stats) ? out->size : sizeof(vbl_film_stats);
+    vbl_film_stats copy = film->stats;
+    copy.size = size;
+    memcpy(out, &copy, size);
     return VBL_SUCCESS;
 }

@@ -24,6 +24,7 @@ typedef struct vbl_merge_layer {
     double* sum;    /* n * channels */
     double* weight; /* DEPTH: sum n_i A_i */
     double* plain;  /* DEPTH: sum n_i x_i (where no film has a weight) */
+    double* misses; /* DEPTH: sum n_i over films with x_i = VBL_FILM_Z_MISS */
 } vbl_merge_layer;
 
 typedef struct vbl_merge_range {
@@ -54,6 +55,7 @@ static void vbl_merger_clear(vbl_film_merger* m)
         free(m->layers[k].sum);
         free(m->layers[k].weight);
         free(m->layers[k].plain);
+        free(m->layers[k].misses);
     }
     free(m->ranges);
     memset(m, 0, sizeof *m);
@@ -95,8 +97,9 @@ static vbl_result vbl_merger_start(vbl_film_merger* m, const vbl_film* film)
         if (l->rule == VBL_MERGE_RULE_DEPTH) {
             l->weight = calloc(values ? values : 1, sizeof(double));
             l->plain = calloc(values ? values : 1, sizeof(double));
+            l->misses = calloc(values ? values : 1, sizeof(double));
         }
-        if (!l->sum || (l->rule == VBL_MERGE_RULE_DEPTH && (!l->weight || !l->plain)))
+        if (!l->sum || (l->rule == VBL_MERGE_RULE_DEPTH && (!l->weight || !l->plain || !l->misses)))
             return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "vbl_film_merger_add: out of memory for the running sums");
     }
     return VBL_SUCCESS;
@@ -117,6 +120,9 @@ static vbl_result vbl_merger_check(const vbl_film_merger* m, const vbl_film* fil
                          "light paths %d / %d, seed %llu / %llu)",
                          i, vbl_render_method_name(b->method), vbl_render_method_name(a->method), b->spp, a->spp,
                          b->light_paths, a->light_paths, (unsigned long long)b->seed, (unsigned long long)a->seed);
+    if (a->transparent != b->transparent)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_merge: film %d is %s, film 0 is %s", i,
+                         b->transparent ? "transparent" : "opaque", a->transparent ? "transparent" : "opaque");
     if (film->layer_count != m->layer_count)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_merge: film %d has %d layers, film 0 has %d", i,
                          film->layer_count, m->layer_count);
@@ -191,10 +197,13 @@ vbl_result vbl_film_merger_add(vbl_film_merger* m, const vbl_film* film)
         case VBL_MERGE_RULE_DEPTH:
             for (size_t v = 0; v < values; ++v) {
                 double a = alpha ? alpha[4 * (v / (size_t)l->channels)] : 1.0;
-                double w = x[v] > 0.0f && a > 0.0 ? p * a : 0.0; /* Z = 0: no collision, no depth */
+                /* Z = 0 (files before VBL_FILM_Z_MISS) or VBL_FILM_Z_MISS: no collision, no depth */
+                const int miss = !(x[v] > 0.0f && x[v] < VBL_FILM_Z_MISS);
+                double w = !miss && a > 0.0 ? p * a : 0.0;
                 l->sum[v] += w * x[v];
                 l->weight[v] += w;
                 l->plain[v] += p * x[v];
+                if (x[v] >= VBL_FILM_Z_MISS) l->misses[v] += p;
             }
             break;
         default:
@@ -234,7 +243,10 @@ vbl_result vbl_film_merger_finish(vbl_film_merger* m, vbl_film** out_film)
             switch (l->rule) {
             case VBL_MERGE_RULE_SUM: x = l->sum[v]; break;
             case VBL_MERGE_RULE_VARIANCE: x = l->sum[v] / (N * N); break;
-            case VBL_MERGE_RULE_DEPTH: x = l->weight[v] > 0.0 ? l->sum[v] / l->weight[v] : l->plain[v] / N; break;
+            case VBL_MERGE_RULE_DEPTH:
+                x = l->weight[v] > 0.0 ? l->sum[v] / l->weight[v]
+                                       : (l->misses[v] >= N ? (double)VBL_FILM_Z_MISS : l->plain[v] / N);
+                break;
             default: x = l->sum[v] / N; break;
             }
             out[v] = (float)x;
@@ -259,9 +271,11 @@ vbl_result vbl_film_merger_finish(vbl_film_merger* m, vbl_film** out_film)
             for (int k = 0; k < 3; ++k) {
                 float sum = 0.0f;
                 for (int c = 0; c < VBL_CLASS_COUNT; ++c)
-                    if (transport[c]) sum += transport[c]->pixels[3 * i + (size_t)k];
+                    if (transport[c] && vbl_film_class_in_beauty(c, m->stats.transparent))
+                        sum += transport[c]->pixels[3 * i + (size_t)k];
                 beauty->pixels[(size_t)beauty->channels * i + (size_t)k] = sum;
             }
+    if (!r && film) r = vbl_film_compute_totals(film); /* exact sums of the merged classes */
     vbl_merger_clear(m);
     if (r) {
         vbl_film_release(film);

@@ -252,6 +252,17 @@ void vbl_render_options_init(vbl_render_options* options)
     if (options) *options = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
 }
 
+int vbl_render_options_light_paths(const vbl_render_options* o)
+{
+    if (!o) return 0;
+    if (o->light_paths > 0) return o->light_paths;
+    switch (o->method) {
+    case VBL_RENDER_VRL: return VBL_LIGHT_PATHS_DEFAULT_VRL;
+    case VBL_RENDER_VBL: return VBL_LIGHT_PATHS_DEFAULT_VBL;
+    default: return VBL_LIGHT_PATHS_DEFAULT;
+    }
+}
+
 vbl_result vbl_render_options_validate(const vbl_render_options* o)
 {
     if (!o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL options");

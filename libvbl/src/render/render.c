@@ -9,7 +9,9 @@
 #include "core/error.h"
 #include "film/film.h"
 #include "render/render_internal.h"
+#include "sampling/sobol.h"
 #include "transport/common/estimator.h"
+#include "transport/path_tracing/pt.h"
 
 #define VBL_TILE 16
 
@@ -38,13 +40,24 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     const int spp = ctx->options.spp;
     double pass_beauty[3] = {0.0, 0.0, 0.0};
     double components[VBL_MAX_MEDIA];
+    /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
+    const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
+    const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
     for (int s = 0; s < spp; ++s) {
         vbl_camera_sample cs;
         cs.px = px;
         cs.py = py;
         cs.pixel_index = pixel_index;
-        cs.sx = px + vbl_rng_uniform(&rng);
-        cs.sy = py + vbl_rng_uniform(&rng);
+        cs.sample_index = (uint32_t)((uint64_t)ctx->pass * (uint64_t)spp + (uint64_t)s);
+        if (sobol) {
+            double u, v;
+            vbl_sobol_pair(pixel_key, cs.sample_index, &u, &v);
+            cs.sx = px + u;
+            cs.sy = py + v;
+        } else {
+            cs.sx = px + vbl_rng_uniform(&rng);
+            cs.sy = py + vbl_rng_uniform(&rng);
+        }
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
         cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
         int surface_hit = 0;
@@ -79,6 +92,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
             acc->L[c][0] += value.L[c].x;
             acc->L[c][1] += value.L[c].y;
             acc->L[c][2] += value.L[c].z;
+            if (!vbl_film_class_in_beauty(c, ctx->options.transparent)) continue; /* variance of the beauty */
             beauty[0] += value.L[c].x;
             beauty[1] += value.L[c].y;
             beauty[2] += value.L[c].z;
@@ -133,6 +147,7 @@ static void vbl_render_fill_stats(const vbl_render_driver* d, vbl_film_stats* st
     stats->threads = d->threads;
     stats->render_seconds = omp_get_wtime() - d->start;
     stats->first_pass = d->options->first_pass;
+    stats->transparent = d->options->transparent != 0;
 }
 
 vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film)
@@ -172,12 +187,16 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                          "%s: the scene has emissive media, which only method 'pt' renders so far (not '%s')",
                          scene->path, est->name);
 
+    if (options->light_groups && scene->light_group_count > 0)
+        return vbl_render_light_groups(scene, options, est, out_film); /* one render per group */
+
     vbl_render_context ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.scene = scene;
     ctx.extinction = &scene->extinction;
     ctx.options = *options;
     ctx.options.size = sizeof(vbl_render_options);
+    ctx.options.light_paths = vbl_render_options_light_paths(options); /* 0: the method's default */
     ctx.tracking.estimator = vbl_uncached(options->transmittance);
     ctx.tracking.march_step = 0.0;
     ctx.tracking.use_global_majorant = 0;
@@ -194,7 +213,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
-    vbl_render_driver driver = {scene, options, accum, 0, ctx.threads, start};
+    vbl_render_driver driver = {scene, &ctx.options, accum, 0, ctx.threads, start};
     /* Stopping inside a pass (cancel flag, time limit after the first pass) restores the
      * accumulators of the last complete pass from this copy: the film never holds part of a pass. */
     vbl_pixel_accum* backup = NULL;

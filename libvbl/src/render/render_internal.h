@@ -8,4 +8,9 @@
 vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_options* options,
                                      const vbl_estimator* estimator, vbl_film** out_film);
 
+/* options.light_groups on a scene with light groups: one render per group, combined
+ * (render/light_groups.c). */
+vbl_result vbl_render_light_groups(const vbl_scene* scene, const vbl_render_options* options,
+                                   const vbl_estimator* estimator, vbl_film** out_film);
+
 #endif

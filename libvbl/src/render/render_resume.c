@@ -23,13 +23,14 @@ vbl_result vbl_render_resume(const vbl_scene* scene, const vbl_render_options* o
     if (vbl_film_width(base) != w || vbl_film_height(base) != h)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render_resume: the base film is %dx%d, the scene %dx%d",
                          vbl_film_width(base), vbl_film_height(base), w, h);
-    if (b.method != options->method || b.spp != options->spp || b.light_paths != options->light_paths ||
+    const int light_paths = vbl_render_options_light_paths(options);
+    if (b.method != options->method || b.spp != options->spp || b.light_paths != light_paths ||
         b.seed != options->seed)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
                          "vbl_render_resume: the base film is another render (method %s / %s, spp %d / %d, light "
                          "paths %d / %d, seed %llu / %llu)",
                          vbl_render_method_name(b.method), vbl_render_method_name(options->method), b.spp, options->spp,
-                         b.light_paths, options->light_paths, (unsigned long long)b.seed,
+                         b.light_paths, light_paths, (unsigned long long)b.seed,
                          (unsigned long long)options->seed);
     if (b.first_pass != options->first_pass)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT,

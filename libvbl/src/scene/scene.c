@@ -36,10 +36,39 @@ void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height)
 
 int vbl_scene_light_count(const vbl_scene* scene) { return scene ? scene->light_count : 0; }
 int vbl_scene_medium_count(const vbl_scene* scene) { return scene ? scene->media_count : 0; }
+int vbl_scene_has_emission(const vbl_scene* scene) { return scene ? scene->has_emission : 0; }
 
 const char* vbl_scene_color_space(const vbl_scene* scene)
 {
     return scene && scene->color_space[0] ? scene->color_space : NULL;
+}
+
+vbl_result vbl_scene_camera_matrices(const vbl_scene* scene, double world_to_camera[16], double world_to_ndc[16])
+{
+    if (!scene || !world_to_camera || !world_to_ndc)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_scene_camera_matrices: NULL argument");
+    const vbl_camera* c = &scene->camera;
+    const vbl_vec3 axes[3] = {c->right, c->up, c->forward};
+    /* camera space (row vectors): p_cam = (p - position) [r u f] */
+    for (int j = 0; j < 3; ++j) {
+        const double a[3] = {axes[j].x, axes[j].y, axes[j].z};
+        for (int i = 0; i < 3; ++i) world_to_camera[4 * i + j] = a[i];
+        world_to_camera[12 + j] = -vbl_v3_dot(c->position, axes[j]);
+        world_to_camera[4 * j + 3] = 0.0;
+    }
+    world_to_camera[15] = 1.0;
+    /* NDC (vbl_camera_ray inverted): x = 0.5 + 0.5 (x_c / z_c) / (tan aspect), y = 0.5 - 0.5 (y_c / z_c) / tan;
+     * camera -> NDC as [x_c y_c z_c 1] P with w = z_c */
+    const double aspect = (double)c->width / (double)c->height;
+    const double sx = 0.5 / (c->tan_half_fov * aspect), sy = 0.5 / c->tan_half_fov;
+    const double P[16] = {sx, 0.0, 0.0, 0.0, 0.0, -sy, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double v = 0.0;
+            for (int k = 0; k < 4; ++k) v += world_to_camera[4 * i + k] * P[4 * k + j];
+            world_to_ndc[4 * i + j] = v;
+        }
+    return VBL_SUCCESS;
 }
 
 const char* vbl_scene_medium_path(const vbl_scene* scene, int index)

@@ -15,6 +15,7 @@
 #include "volume/extinction.h"
 
 #define VBL_MAX_LIGHTS 64
+#define VBL_MAX_LIGHT_GROUPS 8 /* "default" (untagged lights, emissive media) + 7 named */
 
 /* Pinhole camera (Cycles reference kit convention, see docs/readme/render.md). */
 typedef struct vbl_camera {
@@ -42,6 +43,7 @@ typedef struct vbl_light {
     vbl_vec3 corner, edge1, edge2; /* quad */
     vbl_vec3 normal;     /* quad: unit cross(edge1, edge2), the emitting side */
     double area;         /* quad */
+    int group;           /* index into vbl_scene.light_groups (0: "default", the untagged lights) */
 } vbl_light;
 
 typedef struct vbl_medium {
@@ -73,7 +75,11 @@ struct vbl_scene {
     vbl_light lights[VBL_MAX_LIGHTS];
     int light_count;
     int has_delta_lights;   /* point/spot/distant */
-    int has_visible_lights; /* quad/environment (seen directly -> emission layer) */
+    int has_visible_lights; /* quad/environment (seen directly -> background layer) */
+    /* light groups (docs/readme/output.md, "Light groups"): names[0] = "default"; count 0 when no
+     * light has a "group" (then options.light_groups adds nothing) */
+    char light_groups[VBL_MAX_LIGHT_GROUPS][24];
+    int light_group_count;
     vbl_medium media[VBL_MAX_MEDIA];
     int media_count;
     vbl_extinction extinction; /* components in media order */

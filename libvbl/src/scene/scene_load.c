@@ -16,6 +16,8 @@
 #include "scene/scene_render_block.h"
 #include "media/media_emission.h"
 #include "scene/scene_grids.h"
+#include "scene/scene_camera.h"
+#include "scene/scene_keyframes.h"
 #include "scene/scene_json.h"
 #include "scene/scene_surfaces.h"
 
@@ -105,49 +107,46 @@ static vbl_result vbl_parse_color(const vbl_json_ctx* ctx, const vbl_scene_color
     return VBL_SUCCESS;
 }
 
-static vbl_result vbl_parse_camera(const vbl_json_ctx* ctx, const cJSON* root, vbl_camera* cam)
+/* A light's "group": a name of letters, digits and '_' (at most 20); the first use adds it. */
+static vbl_result vbl_scene_parse_light_group(const vbl_json_ctx* ctx, const cJSON* obj, const char* field,
+                                              vbl_scene* scene, vbl_light* light)
 {
-    static const char* const keys[] = {"position", "look_at", "up", "fov_deg", "resolution", NULL};
-    const cJSON* obj = NULL;
-    vbl_result r;
-    if ((r = vbl_json_object(ctx, root, "", "camera", 1, &obj))) return r;
-    if ((r = vbl_json_check_keys(ctx, obj, "camera", keys))) return r;
-    vbl_vec3 position, look_at, up = vbl_v3(0.0, 0.0, 1.0);
-    double fov = 40.0;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "position", 1, &position))) return r;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "look_at", 1, &look_at))) return r;
-    if ((r = vbl_json_vec3(ctx, obj, "camera", "up", 0, &up))) return r;
-    if ((r = vbl_json_number(ctx, obj, "camera", "fov_deg", 0, &fov))) return r;
-    if (!(fov > 0.0 && fov < 180.0)) return vbl_json_fail(ctx, "camera.fov_deg = %g is outside (0, 180)", fov);
-    const cJSON* res = cJSON_GetObjectItemCaseSensitive(obj, "resolution");
-    if (!res) return vbl_json_fail(ctx, "camera.resolution is missing");
-    if (!cJSON_IsArray(res) || cJSON_GetArraySize(res) != 2)
-        return vbl_json_fail(ctx, "camera.resolution must be an array [width, height]");
-    int wh[2];
-    for (int i = 0; i < 2; ++i) {
-        const cJSON* c = cJSON_GetArrayItem(res, i);
-        if (!cJSON_IsNumber(c) || c->valuedouble != floor(c->valuedouble))
-            return vbl_json_fail(ctx, "camera.resolution[%d] must be an integer", i);
-        if (c->valuedouble < 1 || c->valuedouble > 32768)
-            return vbl_json_fail(ctx, "camera.resolution[%d] = %g is outside [1, 32768]", i, c->valuedouble);
-        wh[i] = (int)c->valuedouble;
+    const char* name = NULL;
+    vbl_result r = vbl_json_string(ctx, obj, field, "group", 0, &name);
+    light->group = 0;
+    if (r || !name) return r;
+    size_t n = strlen(name);
+    int ok = n > 0 && n <= 20; /* "lightgroup_<name>" fits a film layer name */
+    for (size_t k = 0; ok && k < n; ++k)
+        ok = (name[k] >= 'a' && name[k] <= 'z') || (name[k] >= 'A' && name[k] <= 'Z') ||
+             (name[k] >= '0' && name[k] <= '9') || name[k] == '_';
+    if (!ok)
+        return vbl_json_fail(ctx, "%s.group = \"%s\" is not a name of 1 to 20 letters, digits or '_'", field, name);
+    if (scene->light_group_count == 0) {
+        snprintf(scene->light_groups[0], sizeof scene->light_groups[0], "default");
+        scene->light_group_count = 1;
     }
-    if (!(vbl_v3_length(vbl_v3_sub(look_at, position)) > 0.0))
-        return vbl_json_fail(ctx, "camera.look_at equals camera.position");
-    if (vbl_camera_make(position, look_at, up, fov, wh[0], wh[1], cam))
-        return vbl_json_fail(ctx, "camera.up is zero or parallel to the view direction");
+    for (int g = 0; g < scene->light_group_count; ++g)
+        if (!strcmp(scene->light_groups[g], name)) {
+            light->group = g;
+            return VBL_SUCCESS;
+        }
+    if (scene->light_group_count >= VBL_MAX_LIGHT_GROUPS)
+        return vbl_json_fail(ctx, "%s.group = \"%s\": more than %d light groups", field, name, VBL_MAX_LIGHT_GROUPS - 1);
+    snprintf(scene->light_groups[scene->light_group_count], sizeof scene->light_groups[0], "%s", name);
+    light->group = scene->light_group_count++;
     return VBL_SUCCESS;
 }
 
 static vbl_result vbl_parse_light(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
                                   const char* field, vbl_light* light)
 {
-    static const char* const point_keys[] = {"type", "position", "intensity", NULL};
+    static const char* const point_keys[] = {"type", "position", "intensity", "group", NULL};
     static const char* const spot_keys[] = {"type", "position", "direction", "intensity",
-                                            "inner_angle_deg", "outer_angle_deg", NULL};
-    static const char* const distant_keys[] = {"type", "direction", "irradiance", NULL};
-    static const char* const quad_keys[] = {"type", "corner", "edge1", "edge2", "radiance", NULL};
-    static const char* const env_keys[] = {"type", "radiance", NULL};
+                                            "inner_angle_deg", "outer_angle_deg", "group", NULL};
+    static const char* const distant_keys[] = {"type", "direction", "irradiance", "group", NULL};
+    static const char* const quad_keys[] = {"type", "corner", "edge1", "edge2", "radiance", "group", NULL};
+    static const char* const env_keys[] = {"type", "radiance", "group", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
     const char* type = NULL;
@@ -232,10 +231,12 @@ static vbl_result vbl_parse_transform(const vbl_json_ctx* ctx, const cJSON* item
 }
 
 static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
-                                   const char* field, const char* dir, const char* vdb_override, vbl_medium* medium)
+                                   const char* field, const char* dir, const char* vdb_override,
+                                   const vbl_scene_load_options* options, vbl_medium* medium)
 {
     static const char* const keys[] = {"vdb",       "grid",     "density_scale", "albedo", "phase",
-                                       "transform", "emission", "temperature",   NULL};
+                                       "transform", "emission", "temperature",   "grid_index", "transform_frames",
+                                       NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
@@ -244,6 +245,8 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     const char* grid = "density";
     if ((r = vbl_json_string(ctx, obj, field, "vdb", vdb_override == NULL, &vdb))) return r;
     if ((r = vbl_json_string(ctx, obj, field, "grid", 0, &grid))) return r;
+    double grid_index = -1.0; /* the grid_index-th grid of that name in file order (vbl info lists them) */
+    if ((r = vbl_json_int(ctx, obj, field, "grid_index", 0, 0.0, 1e6, &grid_index))) return r;
     medium->density_scale = 1.0;
     if ((r = vbl_json_number(ctx, obj, field, "density_scale", 0, &medium->density_scale))) return r;
     if (medium->density_scale < 0.0)
@@ -274,6 +277,31 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
         if ((r = vbl_parse_transform(ctx, transform, tf, &medium->volume_to_scene, &medium->scene_to_volume)))
             return r;
     }
+    /* sequences: {"<frame>": 4x4, ...}, interpolated element by element between keyed frames
+     * (exact for translation and scale; rotations between keys are approximate) */
+    const cJSON* tframes = cJSON_GetObjectItemCaseSensitive(obj, "transform_frames");
+    if (tframes && !cJSON_IsObject(tframes))
+        return vbl_json_fail(ctx, "%s.transform_frames must be an object of frames", field);
+    if (tframes && options && options->use_frame) {
+        char tf[512];
+        vbl_json_field(tf, sizeof tf, field, "transform_frames");
+        const cJSON *below = NULL, *above = NULL;
+        double w = 0.0;
+        int found = vbl_keyframes_find(ctx, tframes, tf, NULL, options->frame, &below, &above, &w);
+        if (found < 0) return VBL_ERROR_SCENE;
+        if (found) {
+            vbl_affine a, b, inv;
+            char kf[600];
+            snprintf(kf, sizeof kf, "%s.%s", tf, below->string);
+            if ((r = vbl_parse_transform(ctx, below, kf, &a, &inv))) return r;
+            snprintf(kf, sizeof kf, "%s.%s", tf, above->string);
+            if ((r = vbl_parse_transform(ctx, above, kf, &b, &inv))) return r;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 4; ++j) medium->volume_to_scene.m[i][j] = (1.0 - w) * a.m[i][j] + w * b.m[i][j];
+            if (!vbl_affine_invert(&medium->volume_to_scene, &medium->scene_to_volume))
+                return vbl_json_fail(ctx, "%s at frame %d is singular", tf, options->frame);
+        }
+    }
     /* resolve and load the VDB */
     if (vdb_override)
         snprintf(medium->vdb_path, sizeof medium->vdb_path, "%s", vdb_override);
@@ -288,6 +316,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     fclose(probe);
     vbl_volume_load_options load = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
     load.grid_name = grid;
+    load.grid_index = (int)grid_index;
     r = vbl_volume_load(medium->vdb_path, &load, &medium->volume);
     if (r) {
         char inner[1024];
@@ -381,7 +410,7 @@ static vbl_result vbl_surface_color(const vbl_json_ctx* ctx, const void* colors,
 
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
 {
-    static const char* const keys[] = {"camera", "lights", "media", "render", "color_space", "surfaces", NULL};
+    static const char* const keys[] = {"camera", "cameras", "lights", "media", "render", "color_space", "surfaces", NULL};
     vbl_json_ctx ctx = {scene->path};
     vbl_result r;
     if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
@@ -404,7 +433,6 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
         colors.convert = options->convert_color;
         colors.user = options->convert_color_user;
     }
-    if ((r = vbl_parse_camera(&ctx, root, &scene->camera))) return r;
 
     const cJSON* lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights) {
@@ -416,6 +444,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             char field[64];
             snprintf(field, sizeof field, "lights[%d]", i);
             if ((r = vbl_parse_light(&ctx, &colors, l, field, &scene->lights[i]))) return r;
+            if ((r = vbl_scene_parse_light_group(&ctx, l, field, scene, &scene->lights[i]))) return r;
             if (vbl_v3_max_component(scene->lights[i].color) <= 0.0) continue; /* black lights do nothing */
             if (scene->lights[i].type == VBL_LIGHT_QUAD || scene->lights[i].type == VBL_LIGHT_ENVIRONMENT)
                 scene->has_visible_lights = 1;
@@ -443,7 +472,7 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             if ((r = vbl_scene_frame_vdb(ctx.path, field, m, dir, options, &override, framed, sizeof framed)))
                 return r;
             scene->media_count = i + 1; /* so a failure releases what was loaded */
-            if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, &scene->media[i]))) return r;
+            if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, options, &scene->media[i]))) return r;
             if ((r = vbl_parse_medium_emission(&ctx, &colors, m, field, dir, scene, i))) return r;
         }
         scene->media_count = i;
@@ -453,6 +482,8 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
                              scene->media_count);
 
     if ((r = vbl_scene_parse_surfaces(scene, &ctx, root, dir, vbl_surface_color, &colors))) return r;
+    /* after the media: "frame_media" frames their bounds */
+    if ((r = vbl_scene_parse_camera(&ctx, root, scene, options, &scene->camera))) return r;
 
     vbl_render_options defaults = VBL_RENDER_OPTIONS_DEFAULT;
     scene->render = defaults;

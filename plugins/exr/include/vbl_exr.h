@@ -31,13 +31,14 @@ typedef struct vbl_exr_layer {
  * (relative error <= 2^-11 per value). */
 
 /* Layer names: the beauty is ""; the light-transport classes are vbl_transport_class_name()'s
- * (vbl/vbl_film.h: "emission", "volume_direct", ...), the one list of them. */
+ * (vbl/vbl_film.h: "background", "volume_direct", ...), the one list of them. */
 
 typedef enum vbl_exr_attribute_type {
     VBL_EXR_ATTRIBUTE_STRING = 0,      /* `value` */
     VBL_EXR_ATTRIBUTE_INT = 1,         /* `int_value` (EXR "int") */
     VBL_EXR_ATTRIBUTE_DOUBLE = 2,      /* `double_value` (EXR "double") */
-    VBL_EXR_ATTRIBUTE_FLOAT = 3        /* `double_value` stored as EXR "float" */
+    VBL_EXR_ATTRIBUTE_FLOAT = 3,       /* `double_value` stored as EXR "float" */
+    VBL_EXR_ATTRIBUTE_M44F = 4         /* `m44`: 16 floats, row-major (EXR "m44f": worldToCamera, worldToNDC) */
 } vbl_exr_attribute_type;
 
 typedef struct vbl_exr_attribute {
@@ -46,6 +47,7 @@ typedef struct vbl_exr_attribute {
     vbl_exr_attribute_type type;       /* 0 (zero-initialised): string */
     int int_value;
     double double_value;
+    const float* m44;                  /* M44F: 16 floats, row-major */
 } vbl_exr_attribute;
 
 typedef struct vbl_exr_write_options {
@@ -92,15 +94,19 @@ int vbl_exr_image_tile_size(const vbl_exr_image* image);                   /* 0 
 int vbl_exr_image_channel_count(const vbl_exr_image* image);
 const char* vbl_exr_image_channel_name(const vbl_exr_image* image, int index);
 int vbl_exr_image_channel_is_half(const vbl_exr_image* image, int index);
-/* Index of a channel by full name ("R", "emission.G"), or -1. */
+/* Index of a channel by full name ("R", "background.G"), or -1. */
 int vbl_exr_image_find_channel(const vbl_exr_image* image, const char* name);
 /* width*height floats, or NULL for a bad index. */
 const float* vbl_exr_image_channel_pixels(const vbl_exr_image* image, int index);
 
 /* Header attributes other than the required ones. Returns NULL if absent; otherwise the value
- * as text (strings as is, numbers with %d / %.17g) and, if `type` is not NULL, its type
- * (-1 for other EXR attribute types, whose text is ""). */
+ * as text (strings as is, numbers with %d / %.17g, m44f as 16 numbers %.9g separated by spaces,
+ * row-major) and, if `type` is not NULL, its type (-1 for other EXR attribute types, whose text
+ * is ""). */
 const char* vbl_exr_image_attribute(const vbl_exr_image* image, const char* name, int* type);
+/* The header attributes other than the required ones, in file order, by index (NULL past the end). */
+int vbl_exr_image_attribute_count(const vbl_exr_image* image);
+const char* vbl_exr_image_attribute_name(const vbl_exr_image* image, int index);
 /* 1 and 8 floats (red, green, blue, white xy) if the file has a chromaticities attribute. */
 int vbl_exr_image_chromaticities(const vbl_exr_image* image, float out[8]);
 

@@ -138,7 +138,7 @@ static vbl_result vbl_exr_read_attributes(exr_context_t ctxt, vbl_exr_image* ima
             image->has_chromaticities = 1;
         }
         if (vbl_exr_is_structural(a->name)) continue;
-        char buffer[64] = "";
+        char buffer[320] = "";
         const char* text = buffer;
         size_t text_len;
         int type = -1;
@@ -147,6 +147,13 @@ static vbl_result vbl_exr_read_attributes(exr_context_t ctxt, vbl_exr_image* ima
         case EXR_ATTR_INT: snprintf(buffer, sizeof buffer, "%d", a->i); type = VBL_EXR_ATTRIBUTE_INT; break;
         case EXR_ATTR_DOUBLE: snprintf(buffer, sizeof buffer, "%.17g", a->d); type = VBL_EXR_ATTRIBUTE_DOUBLE; break;
         case EXR_ATTR_FLOAT: snprintf(buffer, sizeof buffer, "%.9g", (double)a->f); type = VBL_EXR_ATTRIBUTE_FLOAT; break;
+        case EXR_ATTR_M44F: {
+            size_t used = 0;
+            for (int e = 0; e < 16 && used < sizeof buffer; ++e)
+                used += (size_t)snprintf(buffer + used, sizeof buffer - used, e ? " %.9g" : "%.9g", (double)a->m44f->m[e]);
+            type = VBL_EXR_ATTRIBUTE_M44F;
+            break;
+        }
         default: break;
         }
         text_len = a->type == EXR_ATTR_STRING ? (size_t)(a->string->length > 0 ? a->string->length : 0) : strlen(text);
@@ -399,4 +406,11 @@ int vbl_exr_image_chromaticities(const vbl_exr_image* image, float out[8])
     if (!image || !image->has_chromaticities) return 0;
     if (out) memcpy(out, image->chromaticities, sizeof image->chromaticities);
     return 1;
+}
+
+int vbl_exr_image_attribute_count(const vbl_exr_image* image) { return image ? image->attribute_count : 0; }
+
+const char* vbl_exr_image_attribute_name(const vbl_exr_image* image, int index)
+{
+    return image && index >= 0 && index < image->attribute_count ? image->attributes[index].name : NULL;
 }

@@ -296,6 +296,11 @@ static exr_result_t vbl_exr_set_attribute(exr_context_t ctxt, const vbl_exr_attr
     case VBL_EXR_ATTRIBUTE_INT: return exr_attr_set_int(ctxt, 0, a->name, a->int_value);
     case VBL_EXR_ATTRIBUTE_DOUBLE: return exr_attr_set_double(ctxt, 0, a->name, a->double_value);
     case VBL_EXR_ATTRIBUTE_FLOAT: return exr_attr_set_float(ctxt, 0, a->name, (float)a->double_value);
+    case VBL_EXR_ATTRIBUTE_M44F: {
+        exr_attr_m44f_t m;
+        memcpy(m.m, a->m44, sizeof m.m);
+        return exr_attr_set_m44f(ctxt, 0, a->name, &m);
+    }
     default: return exr_attr_set_string(ctxt, 0, a->name, a->value ? a->value : "");
     }
 }
@@ -338,7 +343,9 @@ vbl_result vbl_exr_write(const char* path, int width, int height, const vbl_exr_
         if (!a->name || !a->name[0] || strlen(a->name) > VBL_EXR_MAX_NAME || vbl_exr_is_required_attribute(a->name))
             return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT, "%s: attribute %d has an invalid or reserved name '%s'",
                                     path, i, a->name ? a->name : "(null)");
-        if ((unsigned)a->type > VBL_EXR_ATTRIBUTE_FLOAT)
+        if (a->type == VBL_EXR_ATTRIBUTE_M44F && !a->m44)
+            return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT, "%s: m44f attribute '%s' without values", path, a->name);
+        if ((unsigned)a->type > VBL_EXR_ATTRIBUTE_M44F)
             return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT, "%s: attribute '%s' has unknown type %d", path, a->name, (int)a->type);
         if (strlen(a->name) > 31) long_names = 1;
     }

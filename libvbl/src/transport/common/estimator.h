@@ -59,6 +59,7 @@ typedef struct vbl_camera_sample {
     int px, py;              /* pixel, row 0 at the top */
     uint64_t pixel_index;    /* py * width + px */
     double sx, sy;           /* continuous raster position inside the pixel */
+    uint32_t sample_index;   /* pass * spp + sample: the global index in the pixel's sequence (pt.sampler) */
     vbl_vec3 origin, direction; /* unit direction */
     double t_max;            /* distance to the first surface along the ray (INFINITY if none):
                                 media transport along the camera ray stops there */
