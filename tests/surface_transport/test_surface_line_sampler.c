@@ -147,8 +147,8 @@ static void test_vsl_camera_sampler_chi2(void** state)
                                vbl_v3(1, 1, 1), 0, 1};
         for (int r = 0; r < 2; ++r) {
             vbl_surface_line_sampler s;
-            assert_true(vbl_surface_vsl_camera_sampler_init(&s, vbl_v3(-3, 0.3, 1.0), vbl_v3_normalize(vbl_v3(1, 0, -0.2)),
-                                                            0.5, 5.0, 0.7, &vsl, &m, r ? 0.2 : 0.0));
+            const vbl_segment cam = {vbl_v3(-3, 0.3, 1.0), vbl_v3_normalize(vbl_v3(1, 0, -0.2)), 0.5, 5.0};
+            assert_true(vbl_surface_vsl_camera_sampler_init(&s, &cam, 0.7, &vsl, &m, r ? 0.2 : 0.0));
             char label[96];
             snprintf(label, sizeof label, "vsl->camera %s R=%g", st_material_name(mi), r ? 0.2 : 0.0);
             ok &= chi2_line(label, &s, true_pdf, 300 + 2 * mi + r, 6, &bad);

@@ -206,8 +206,10 @@ static void test_volume_from_surface(void** state)
             for (int i = 0; i < (r ? 6000 : 20000); ++i) {
                 double xi = vbl_rng_uniform(&rng);
                 double j[3] = {vbl_rng_uniform(&rng), vbl_rng_uniform(&rng), vbl_rng_uniform(&rng)};
-                vbl_vec3 e = vbl_volume_from_vsl(c_o, c_d, u0, u1, gs[vi], vsl, &g_mat[vsl->material], k.radius,
-                                                 st_medium_fn, &k.medium, xi, 4, j, NULL, NULL);
+                const vbl_segment cam = {c_o, c_d, u0, u1};
+                const vbl_surface_kernel kern = {k.radius, 4, {j[0], j[1], j[2]}};
+                const vbl_surface_camera_medium med = {st_medium_fn, &k.medium};
+                vbl_vec3 e = vbl_volume_from_vsl(&cam, gs[vi], vsl, &g_mat[vsl->material], &kern, med, xi, NULL, NULL);
                 assert_true(st_finite3(e) && st_nonneg3(e));
                 vbl_mean_add(&acc, st_mean3(e));
             }
@@ -220,13 +222,16 @@ static void test_volume_from_surface(void** state)
     /* the store-wide sum is the sum of the per-VSL estimates (same random numbers) */
     vbl_rng a = vbl_rng_make(1, 2, 3), b = vbl_rng_make(1, 2, 3);
     st_medium med = {0.6, 0.9};
-    vbl_vec3 total = vbl_volume_from_surface(c_o, c_d, u0, u1, 0.4, &st, 0.1, st_medium_fn, &med, 8, &a);
+    const vbl_segment cam = {c_o, c_d, u0, u1};
+    const vbl_surface_camera_medium cm = {st_medium_fn, &med};
+    vbl_vec3 total = vbl_volume_from_surface(&cam, 0.4, &st, 0.1, cm, 8, &a);
     vbl_vec3 sum = vbl_v3(0, 0, 0);
     for (size_t i = 0; i < st.count; ++i) {
         double xi = vbl_rng_uniform(&b);
         double j[3] = {vbl_rng_uniform(&b), vbl_rng_uniform(&b), vbl_rng_uniform(&b)};
-        sum = vbl_v3_add(sum, vbl_volume_from_vsl(c_o, c_d, u0, u1, 0.4, &st.vsls[i], &g_mat[st.vsls[i].material], 0.1,
-                                                  st_medium_fn, &med, xi, 8, j, NULL, NULL));
+        const vbl_surface_kernel kern = {0.1, 8, {j[0], j[1], j[2]}};
+        sum = vbl_v3_add(sum, vbl_volume_from_vsl(&cam, 0.4, &st.vsls[i], &g_mat[st.vsls[i].material], &kern, cm, xi,
+                                                  NULL, NULL));
     }
     assert_true(fabs(total.x - sum.x) <= 1e-12 * fabs(sum.x) && fabs(total.z - sum.z) <= 1e-12 * fabs(sum.z));
     assert_true(ok);
@@ -266,8 +271,10 @@ static void test_extremes_finite(void** state)
                         double xi = i == 0 ? 0.0 : (i == 1 ? 1.0 - 1e-16 : vbl_rng_uniform(&rng));
                         double j[3] = {vbl_rng_uniform(&rng), vbl_rng_uniform(&rng), vbl_rng_uniform(&rng)};
                         double pdf = -1.0;
-                        vbl_vec3 e = vbl_volume_from_vsl(o, d, 0.0, 2.0, gi ? -0.999 : 0.999, v, vm, radii[ri],
-                                                         st_medium_fn, &med, xi, 8, j, NULL, &pdf);
+                        const vbl_segment cam = {o, d, 0.0, 2.0};
+                        const vbl_surface_kernel kern = {radii[ri], 8, {j[0], j[1], j[2]}};
+                        const vbl_surface_camera_medium cm = {st_medium_fn, &med};
+                        vbl_vec3 e = vbl_volume_from_vsl(&cam, gi ? -0.999 : 0.999, v, vm, &kern, cm, xi, NULL, &pdf);
                         assert_true(st_finite3(e) && st_nonneg3(e) && isfinite(pdf) && pdf >= 0.0);
                     }
                 }

@@ -1,4 +1,5 @@
-/* Scattering in overlapping media: coefficients add, the phase function is the sigma_s-weighted
+/* Scattering in overlapping media on per-component sigma_t arrays (wrappers of media/medium.h,
+ * which new code uses directly): coefficients add, the phase function is the sigma_s-weighted
  * mixture of the components' Henyey-Greenstein lobes. `component_sigma_t` is the per-component
  * extinction at the point (vbl_extinction_eval / vbl_free_flight_sample, media order). */
 #ifndef VBL_SCENE_MEDIA_H
@@ -26,5 +27,8 @@ int vbl_media_sample_phase(const vbl_scene* scene, const double* component_sigma
  * untouched) if nothing scatters here. */
 int vbl_media_scatter(const vbl_scene* scene, const double* component_sigma_t, double sigma_t, vbl_vec3 travel,
                       double u0, double u1, double u2, vbl_vec3* wi, double* pdf, vbl_vec3* throughput);
+
+/* sigma_s-weighted mean HG g of the media at a point with per-component sigma_t (0 if none). */
+double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t);
 
 #endif

@@ -42,19 +42,6 @@ static int vbl_grow(void** data, size_t* cap, size_t need, size_t elem)
     return 1;
 }
 
-double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t)
-{
-    double w = 0.0, g = 0.0;
-    for (int i = 0; i < scene->media_count; ++i) {
-        if (!(component_sigma_t[i] > 0.0)) continue;
-        const vbl_vec3 a = scene->media[i].albedo;
-        double s = component_sigma_t[i] * (a.x + a.y + a.z);
-        w += s;
-        g += s * scene->media[i].g;
-    }
-    return w > 0.0 ? g / w : 0.0;
-}
-
 vbl_surface_vsl_store vbl_photon_store_surface_view(const vbl_photon_store* store, const vbl_scene* scene)
 {
     vbl_surface_vsl_store v;

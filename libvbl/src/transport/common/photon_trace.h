@@ -144,9 +144,6 @@ vbl_vec3 vbl_vpl_intensity(const vbl_scene* scene, const vbl_vpl* p, double cos_
 /* T(0, v) along a long VRL from its cache (1 for short VRLs): the cache's step function. */
 double vbl_vrl_transmittance(const vbl_photon_store* store, const vbl_vrl* vrl, double v);
 
-/* sigma_s-weighted mean HG g of the media at a point with per-component sigma_t (0 if none). */
-double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t);
-
 /* The camera ray's overlap [u0, u1] with the media and one cached transmittance estimate over
  * it (CACHED_DELTA when options.transmittance asks for it, else CACHED_RATIO), shared by all
  * virtual lights of the camera sample (unbiased: the cache is independent of their samples).

@@ -25,6 +25,7 @@
 #include "sampling/sobol.h"
 #include "scene/lights.h"
 #include "media/media.h"
+#include "media/medium.h"
 #include "transport/path_tracing/pt_equiangular.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
@@ -137,7 +138,7 @@ static void vbl_pt_collect_emission(const vbl_render_context* ctx, vbl_thread_st
  * a direction from the block cone mixture, the emission along it, MIS against the phase
  * function unless this is the path's last vertex (then nothing continues: weight 1). */
 static void vbl_pt_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x,
-                                       vbl_vec3 travel, double sigma_t, const double* component_sigma_t, int last,
+                                       vbl_vec3 travel, double sigma_t, const vbl_medium_point* mp, int last,
                                        const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
@@ -145,9 +146,9 @@ static void vbl_pt_emission_nee_medium(const vbl_render_context* ctx, vbl_thread
     vbl_vec3 wi;
     if (!vbl_emission_lights_sample(&scene->emission_lights, x, u0, u1, u2, &wi, &pdf)) return;
     double cos_theta = vbl_v3_dot(travel, wi);
-    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
+    vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
-    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
+    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_medium_phase_pdf(mp, cos_theta));
     double s = w / (pdf * sigma_t);
     vbl_vec3 b = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
     vbl_pt_collect_emission(ctx, ts, x, wi, b, rng, &out->L[vbl_pt_class(path)]);
@@ -199,9 +200,8 @@ typedef struct vbl_pt_segment {
 
 /* Next-event estimation at the medium vertex at distance t on segment `seg`. */
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
-                                     double t, double sigma_t, const double* component_sigma_t,
-                                     const vbl_pt_path* path, const vbl_pt_dims* dims, vbl_vec3 beta, vbl_rng* rng,
-                                     vbl_sample_value* out)
+                                     double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
+                                     const vbl_pt_dims* dims, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -210,14 +210,14 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     const vbl_light* light = NULL;
     if (!vbl_pt_pick_light(scene, x, dims, path->events, rng, &ls, &select_pdf, &light)) return;
     double cos_theta = vbl_v3_dot(travel, ls.wi);
-    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
+    vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
     double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
     if (!(T > 0.0)) return;
     double w = 1.0;
     if (!ls.is_delta)
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
-                           vbl_media_phase_pdf(scene, component_sigma_t, cos_theta));
+                           vbl_medium_phase_pdf(mp, cos_theta));
     else /* against the segment's equiangular sample (pt_equiangular.h) */
         w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t);
     /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
@@ -323,15 +323,19 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (collided) {
             vbl_vec3 x = vbl_v3_madd(origin, direction, t);
             vbl_pt_segment seg = {origin, direction, t_surface};
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, components, &path, &dims, beta, rng, out);
+            vbl_medium_point mp; /* what scatters at x (media/medium.h) */
+            vbl_medium_point_from_components(scene, components, &mp);
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             if (scene->has_emission && scene->emission_nee)
-                vbl_pt_emission_nee_medium(ctx, ts, x, direction, sigma_t, components, last, &path, beta, rng, out);
+                vbl_pt_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, &path, beta, rng, out);
             if (last) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
             u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
-            if (!vbl_media_scatter(scene, components, sigma_t, direction, u0, u1, u2, &wi, &pdf, &beta)) break;
+            if (!vbl_medium_phase_sample(&mp, direction, u0, u1, u2, &wi, &pdf)) break;
+            vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
+            beta = vbl_v3_scale(vbl_v3_mul(beta, kernel), 1.0 / (pdf * sigma_t));
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);

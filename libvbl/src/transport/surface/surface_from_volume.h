@@ -30,6 +30,7 @@
 
 #include "core/math.h"
 #include "material/material.h"
+#include "media/medium.h"
 #include "transport/surface/surface_line_sampler.h"
 
 /* A camera-visible shading point, prepared once and reused for every virtual light. */
@@ -60,6 +61,12 @@ vbl_vec3 vbl_vrl_surface_integrand(const vbl_surface_point* sp, const vbl_surfac
 vbl_vec3 vbl_beam_light_surface_kernel(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double v, double radius,
                                 int n, const double jitter[3]);
 
+/* sum_i w_i k_i at p(v) over the lobes of the medium there (media/medium.h; w_i = albedo_i
+ * sigma_t,i / sigma_t, k_i the kernel above with g = g_i, radius 0: the eq 6 integrand): the
+ * in-scattering of overlapping media with different g, which one HG lobe of the VRL's g is not. */
+vbl_vec3 vbl_surface_vrl_mixture_kernel(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double v,
+                                        double radius, int n, const double jitter[3], const vbl_medium_point* mp);
+
 /* The sampler of v in [0, length] (R == 0: VRL target, R > 0: VBL target). Returns 0 without
  * support (zero length). */
 int vbl_surface_vrl_sampler_init(vbl_surface_line_sampler* s, const vbl_surface_point* sp,
@@ -73,5 +80,16 @@ vbl_vec3 vbl_surface_from_vrl(const vbl_surface_point* sp, const vbl_surface_vrl
 vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
                               vbl_surface_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
                               double* v_out, double* pdf_out);
+
+/* Overlapping media with different g (media/medium.h): the same estimate with the true phase
+ * mixture at the sampled point. `medium` returns sigma_t(p) T_vrl(0, v) T(p, x) V(p, x) and the
+ * medium there (*mp); the estimate is Phi M sum_i w_i k_i(v) / pdf(v) (vbl_surface_vrl_mixture_kernel),
+ * v from the sampler fitted to `hint`'s mixture (the lobes the VRL may meet; NULL: the VRL's g). */
+typedef double (*vbl_surface_mixture_fn)(void* ctx, double v, vbl_vec3 vrl_point, vbl_vec3 x, vbl_medium_point* mp);
+int vbl_surface_vrl_sampler_init_mixture(vbl_surface_line_sampler* s, const vbl_surface_point* sp,
+                                         const vbl_surface_vrl* vrl, double radius, const vbl_medium_point* hint);
+vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
+                                      const vbl_medium_point* hint, vbl_surface_mixture_fn medium, void* ctx,
+                                      double xi, int n, const double jitter[3]);
 
 #endif

@@ -10,6 +10,7 @@
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
 #include "media/media.h"
+#include "media/medium.h"
 #include "transport/surface/surface_caustics.h"
 #include "transport/surface/surface_cone_kernel.h"
 #include "transport/surface/surface_from_volume.h"
@@ -26,18 +27,16 @@ typedef struct gather_cb {
     const vbl_vrl* vrl;
     const vbl_transmittance_cache* cache;
     vbl_vec3 albedo;
+    vbl_medium_point mp; /* the medium at the last point the kernels asked about */
 } gather_cb;
 
-/* sigma_t at p and the sigma_t-weighted albedo there. */
-static double vbl_medium_at(const gather_cb* c, vbl_vec3 p, vbl_vec3* albedo)
+/* sigma_t at p, the medium there (c->mp) and its sigma_t-weighted albedo. */
+static double vbl_medium_at(gather_cb* c, vbl_vec3 p, vbl_vec3* albedo)
 {
-    const vbl_scene* scene = c->ctx->scene;
-    double comps[VBL_MAX_MEDIA];
-    double sigma_t = vbl_extinction_eval(c->ctx->extinction, &c->ts->cursor, p, comps);
+    double sigma_t = vbl_medium_query(c->ctx->scene, c->ctx->extinction, &c->ts->cursor, p, &c->mp);
     *albedo = vbl_v3(0.0, 0.0, 0.0);
     if (!(sigma_t > 0.0)) return 0.0;
-    for (int i = 0; i < scene->media_count; ++i)
-        if (comps[i] > 0.0) *albedo = vbl_v3_madd(*albedo, scene->media[i].albedo, comps[i] / sigma_t);
+    for (int i = 0; i < c->mp.count; ++i) *albedo = vbl_v3_madd(*albedo, c->mp.lobe[i].albedo, c->mp.lobe[i].sigma_t / sigma_t);
     return sigma_t;
 }
 
@@ -65,6 +64,15 @@ static double vbl_vrl_medium(void* user, double v, vbl_vec3 p, vbl_vec3 x)
     double tl = vbl_vrl_transmittance(c->photons, c->vrl, v);
     if (!(tl > 0.0)) return 0.0;
     return sigma_t * tl * vbl_tv(c, p, x);
+}
+
+/* vbl_vrl_medium and the medium at p (surface_from_volume.h's mixture form). */
+static double vbl_vrl_medium_mixture(void* user, double v, vbl_vec3 p, vbl_vec3 x, vbl_medium_point* mp)
+{
+    gather_cb* c = user;
+    double m = vbl_vrl_medium(user, v, p, x);
+    *mp = c->mp;
+    return m;
 }
 
 /* T V between a surface VSL at y and the surface point x (surface_vsl.h's visibility). */
@@ -107,11 +115,14 @@ static double vbl_camera_target(void* user, vbl_vec3 p)
     return vbl_surface_lobe_max_in_cone(&a, &cone) * vbl_surface_lobe_max_in_cone(&b, &cone);
 }
 
-static vbl_vec3 vbl_gather_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                                           const vbl_surface_vsl* vsl, vbl_vec3 peak, const vbl_material* vm,
-                                           double r, gather_cb* cb, double xi, int n, const double jitter[3],
-                                           double* u_out)
+static vbl_vec3 vbl_gather_volume_from_vsl(const vbl_segment* camera, double g_camera, const vbl_surface_vsl* vsl,
+                                           vbl_vec3 peak, const vbl_material* vm, const vbl_surface_kernel* kernel,
+                                           gather_cb* cb, double xi, double* u_out)
 {
+    const vbl_vec3 c_o = camera->origin, c_d = camera->direction;
+    const double u0 = camera->t0, u1 = camera->t1, r = kernel->radius;
+    const int n = kernel->n;
+    const double* jitter = kernel->jitter;
     vbl_vec3 zero = vbl_v3(0, 0, 0);
     vbl_surface_line_sampler s;
     if (!vbl_surface_line_init(&s, c_o, c_d, u0, u1, vsl->position, r)) return zero;
@@ -128,7 +139,18 @@ static vbl_vec3 vbl_gather_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0
     vbl_vec3 x = vbl_surface_line_point(&s, u);
     double m = vbl_camera_medium(cb, u, x, vsl->position);
     if (!(m > 0.0)) return zero;
-    vbl_vec3 k = vbl_surface_vsl_kernel_medium(x, c_d, g_camera, vsl, vm, r, n, jitter);
+    vbl_vec3 k;
+    if (cb->ctx->scene->media_count > 1) {
+        /* overlapping media: the phase at x is the sigma_s-weighted mixture of their HG lobes, one
+         * kernel per lobe (g_camera is only the sampler's hint); the weights replace the albedo */
+        k = vbl_v3(0.0, 0.0, 0.0);
+        for (int i = 0; i < cb->mp.count; ++i)
+            k = vbl_v3_add(k, vbl_v3_mul(vbl_medium_lobe_weight(&cb->mp, i),
+                                         vbl_surface_vsl_kernel_medium(x, c_d, cb->mp.lobe[i].g, vsl, vm, r, n, jitter)));
+        cb->albedo = vbl_v3(1.0, 1.0, 1.0);
+    } else {
+        k = vbl_surface_vsl_kernel_medium(x, c_d, g_camera, vsl, vm, r, n, jitter);
+    }
     return vbl_v3_scale(vbl_v3_mul(vsl->power, k), m / pdf);
 }
 
@@ -256,7 +278,7 @@ static vbl_vec3 vbl_surface_from_blue_noise(const vbl_render_context* ctx, vbl_t
     const vbl_scene* scene = ctx->scene;
     const int M = ctx->options.max_bounces;
     if (!gs->blue_noise || (M >= 0 && M < 2)) return vbl_v3(0.0, 0.0, 0.0);
-    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = NULL, .cache = NULL};
     vbl_bn_shading sp = {hit->position, hit->shading_normal, hit->geometric_normal, wo,
                          &scene->materials[hit->material],
                          vbl_surfaces_ray_epsilon(scene->surfaces, hit->position),
@@ -313,7 +335,7 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
                                 ctx->tracking.use_global_majorant, rng, &t, &sigma_t, comps) ||
         !(sigma_t > 0.0))
         return zero;
-    gather_cb cb = {ctx, ts, rng, NULL, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = NULL, .cache = NULL};
     bn_medium_point mp = {scene, comps, sigma_t};
     const vbl_vec3 x = vbl_v3_madd(sample->origin, sample->direction, t);
     vbl_bn_shading sp = {x, vbl_v3(0, 0, 1), vbl_v3(0, 0, 1), vbl_v3_scale(sample->direction, -1.0), NULL, 0.0,
@@ -392,13 +414,20 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
 
     const double clamp2 = gs->clamp_distance * gs->clamp_distance;
     const int nk = gs->kernel_samples > 0 ? gs->kernel_samples : VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
-    gather_cb cb = {ctx, ts, rng, photons, NULL, NULL, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = NULL};
     const int need_sp = (gs->vrls && photons->vrl_count) || (photons->surface_vsl_count && gs->vsl_radius > 0.0);
     vbl_surface_point sp;
     if (need_sp) vbl_surface_point_init(&sp, x, n, wo, m);
 
     /* surface_from_volume */
     vbl_vec3 from_volume = vbl_v3(0.0, 0.0, 0.0);
+    vbl_medium_point lobes; /* several media: every lobe, weighted by density scale (the sampler's hint) */
+    lobes.count = 0;
+    if (gs->vrls && scene->media_count > 1) {
+        double scale[VBL_MAX_MEDIA] = {0};
+        for (int i = 0; i < scene->media_count; ++i) scale[i] = scene->media[i].density_scale;
+        vbl_medium_point_from_components(scene, scale, &lobes);
+    }
     if (gs->vrls) {
         for (size_t j = 0; j < photons->vrl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
@@ -407,10 +436,17 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
             cb.vrl = l;
             cb.albedo = vbl_v3(0.0, 0.0, 0.0);
-            double xi = vbl_rng_uniform(rng);
+            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0};
+            if (gs->vrl_radius > 0.0)
+                for (int k = 0; k < 3; ++k) jitter[k] = vbl_rng_uniform(rng);
             vbl_vec3 e;
-            if (gs->vrl_radius > 0.0) {
-                double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
+            if (scene->media_count > 1) {
+                /* overlapping media: the phase at the VRL point is the mixture of their lobes there,
+                 * the sampler fitted to the scene's lobes; the weights replace the albedo */
+                e = vbl_surface_from_vrl_mixture(&sp, &sv, gs->vrl_radius, &lobes, vbl_vrl_medium_mixture, &cb, xi, nk,
+                                                 jitter);
+                cb.albedo = vbl_v3(1.0, 1.0, 1.0);
+            } else if (gs->vrl_radius > 0.0) {
                 e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, NULL, NULL);
             } else {
                 e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, NULL, NULL);
@@ -514,17 +550,19 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
     const int nk = gs->kernel_samples > 0 ? gs->kernel_samples : VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
     const double R = gs->vsl_radius > 0.0 ? gs->vsl_radius : 0.0;
     const int M = ctx->options.max_bounces;
-    gather_cb cb = {ctx, ts, rng, photons, NULL, cache, vbl_v3(0, 0, 0)};
+    gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = cache};
+    const vbl_segment camera = {o, d, u0, u1};
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
         const vbl_surface_vsl v = photons->surface_vsls[j];
         double xi = vbl_rng_uniform(rng);
-        double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
+        vbl_surface_kernel kernel = {R, nk, {0.0, 0.0, 0.0}};
+        for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(rng);
         if (M >= 0 && v.bounce + 2 > M) continue; /* stores traced one event deeper (vbl + beams) */
         cb.albedo = vbl_v3(0.0, 0.0, 0.0);
         double u = u0;
-        vbl_vec3 e = vbl_gather_volume_from_vsl(o, d, u0, u1, gs->g_camera, &v, photons->surface_vsl_peaks[j],
-                                                &scene->materials[v.material], R, &cb, xi, nk, jitter, &u);
+        vbl_vec3 e = vbl_gather_volume_from_vsl(&camera, gs->g_camera, &v, photons->surface_vsl_peaks[j],
+                                                &scene->materials[v.material], &kernel, &cb, xi, &u);
         if (!vbl_any(e)) continue;
         if (R == 0.0 && clamp2 > 0.0) {
             vbl_vec3 to = vbl_v3_sub(vbl_v3_madd(o, d, u), v.position);

@@ -29,9 +29,10 @@
  *                         the result times the albedo at x_u; T_c from the camera cache.
  * T/V callbacks: vbl_ctx_transmittance (ratio tracking by default, 0 when a surface blocks);
  * segments leaving a VSL start at an offset of the surfaces' ray epsilon along the VSL's shading
- * normal (the side the segment leaves to). The kernels use one HG g per virtual light (the
- * VRL's g, g_camera at camera points): exact for a single medium, the sigma_s-weighted mean g
- * for mixtures of media with different g (an approximation).
+ * normal (the side the segment leaves to). With one medium the kernels use its HG g (the VRL's
+ * g, g_camera at camera points). With several media surface_from_volume and volume_from_surface
+ * evaluate the true mixture sum_i w_i HG(g_i) of the media at the sampled point
+ * (media/medium.h; the weights w_i replace the albedo) and the mean g only fits the samplers.
  * max_bounces M: surface_direct needs M != 0; VRLs of bounce k need k + 2 <= M, VPLs of bounce
  * b need b + 1 <= M (surface VSLs are stored only when they qualify, photon_trace.h). */
 #ifndef VBL_TRANSPORT_SURFACE_GATHER_H

@@ -100,10 +100,11 @@ static double camera_target_fn(void* c, vbl_vec3 p)
     return vbl_surface_lobe_max_in_cone(&a, &cone) * vbl_surface_lobe_max_in_cone(&b, &cone);
 }
 
-int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, vbl_vec3 c_o, vbl_vec3 c_d, double u0,
-                                        double u1, double g_camera, const vbl_surface_vsl* vsl,
-                                        const vbl_material* vm, double radius)
+int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, const vbl_segment* camera, double g_camera,
+                                        const vbl_surface_vsl* vsl, const vbl_material* vm, double radius)
 {
+    const vbl_vec3 c_o = camera->origin, c_d = camera->direction;
+    const double u0 = camera->t0, u1 = camera->t1;
     double r = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
     if (!vbl_surface_line_init(s, c_o, c_d, u0, u1, vsl->position, r)) return 0;
     double hints[2];
@@ -117,38 +118,38 @@ int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, vbl_vec3 c_
     return 1;
 }
 
-vbl_vec3 vbl_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                             const vbl_surface_vsl* vsl, const vbl_material* vm, double radius,
-                             vbl_surface_camera_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
-                             double* u_out, double* pdf_out)
+vbl_vec3 vbl_volume_from_vsl(const vbl_segment* camera, double g_camera, const vbl_surface_vsl* vsl,
+                             const vbl_material* vm, const vbl_surface_kernel* kernel, vbl_surface_camera_medium medium,
+                             double xi, double* u_out, double* pdf_out)
 {
     vbl_vec3 zero = vbl_v3(0, 0, 0);
+    const double radius = kernel->radius;
     double r = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
     vbl_surface_line_sampler s;
-    double pdf = 0.0, u = u0;
-    if (vbl_surface_vsl_camera_sampler_init(&s, c_o, c_d, u0, u1, g_camera, vsl, vm, r))
+    double pdf = 0.0, u = camera->t0;
+    if (vbl_surface_vsl_camera_sampler_init(&s, camera, g_camera, vsl, vm, r))
         u = vbl_surface_line_sample(&s, xi, &pdf);
     if (u_out) *u_out = u;
     if (pdf_out) *pdf_out = pdf;
     if (!(pdf > 0.0)) return zero;
     vbl_vec3 x = vbl_surface_line_point(&s, u);
-    double m = medium(ctx, u, x, vsl->position);
+    double m = medium.fn(medium.ctx, u, x, vsl->position);
     if (!(m > 0.0)) return zero;
-    vbl_vec3 k = vbl_surface_vsl_kernel_medium(x, c_d, g_camera, vsl, vm, r, n, jitter);
+    vbl_vec3 k = vbl_surface_vsl_kernel_medium(x, camera->direction, g_camera, vsl, vm, r, kernel->n, kernel->jitter);
     return vbl_v3_scale(vbl_v3_mul(vsl->power, k), m / pdf);
 }
 
-vbl_vec3 vbl_volume_from_surface(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                                 const vbl_surface_vsl_store* store, double radius,
-                                 vbl_surface_camera_medium_fn medium, void* ctx, int n, vbl_rng* rng)
+vbl_vec3 vbl_volume_from_surface(const vbl_segment* camera, double g_camera, const vbl_surface_vsl_store* store,
+                                 double radius, vbl_surface_camera_medium medium, int n, vbl_rng* rng)
 {
     vbl_vec3 sum = vbl_v3(0, 0, 0);
     for (size_t i = 0; i < store->count; ++i) {
         const vbl_surface_vsl* vsl = &store->vsls[i];
         double xi = vbl_rng_uniform(rng);
-        double jitter[3] = {vbl_rng_uniform(rng), vbl_rng_uniform(rng), vbl_rng_uniform(rng)};
-        sum = vbl_v3_add(sum, vbl_volume_from_vsl(c_o, c_d, u0, u1, g_camera, vsl, &store->materials[vsl->material],
-                                                  radius, medium, ctx, xi, n, jitter, NULL, NULL));
+        vbl_surface_kernel kernel = {radius, n, {0.0, 0.0, 0.0}};
+        for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(rng);
+        sum = vbl_v3_add(sum, vbl_volume_from_vsl(camera, g_camera, vsl, &store->materials[vsl->material], &kernel,
+                                                  medium, xi, NULL, NULL));
     }
     return sum;
 }

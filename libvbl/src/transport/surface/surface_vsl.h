@@ -30,6 +30,7 @@
 #include "core/math.h"
 #include "core/rng.h"
 #include "material/material.h"
+#include "media/medium.h"
 #include "transport/surface/surface_from_volume.h"
 #include "transport/surface/surface_line_sampler.h"
 #include "vbl/vbl_core.h"
@@ -74,19 +75,30 @@ vbl_vec3 vbl_surface_vsl_kernel_medium(vbl_vec3 x, vbl_vec3 c_d, double g_camera
 vbl_vec3 vbl_surface_from_surface(const vbl_surface_point* sp, const vbl_surface_vsl_store* store, double radius,
                                   vbl_surface_visibility_fn visibility, void* ctx, int n, vbl_rng* rng);
 
-/* The sampler of u in [u0, u1] about one VSL (returns 0 without support). */
-int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, vbl_vec3 c_o, vbl_vec3 c_d, double u0,
-                                        double u1, double g_camera, const vbl_surface_vsl* vsl,
-                                        const vbl_material* vm, double radius);
-/* volume_from_surface for one VSL, one sample (xi picks u, jitter the cone directions when R > 0):
- * Phi M(u) K_R(x(u), y) / pdf(u). *u_out / *pdf_out may be NULL. */
-vbl_vec3 vbl_volume_from_vsl(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                             const vbl_surface_vsl* vsl, const vbl_material* vm, double radius,
-                             vbl_surface_camera_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
-                             double* u_out, double* pdf_out);
+/* A camera-medium callback with its context. */
+typedef struct vbl_surface_camera_medium {
+    vbl_surface_camera_medium_fn fn;
+    void* ctx;
+} vbl_surface_camera_medium;
+
+/* The VSL kernel's radius R (0: the point form) and its cone quadrature (n directions per
+ * strategy, jitter: surface_cone_kernel.h). */
+typedef struct vbl_surface_kernel {
+    double radius;
+    int n;
+    double jitter[3];
+} vbl_surface_kernel;
+
+/* The sampler of u in the camera segment [t0, t1] about one VSL (returns 0 without support). */
+int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, const vbl_segment* camera, double g_camera,
+                                        const vbl_surface_vsl* vsl, const vbl_material* vm, double radius);
+/* volume_from_surface for one VSL, one sample (xi picks u on the camera segment, kernel->jitter the
+ * cone directions when R > 0): Phi M(u) K_R(x(u), y) / pdf(u). *u_out / *pdf_out may be NULL. */
+vbl_vec3 vbl_volume_from_vsl(const vbl_segment* camera, double g_camera, const vbl_surface_vsl* vsl,
+                             const vbl_material* vm, const vbl_surface_kernel* kernel, vbl_surface_camera_medium medium,
+                             double xi, double* u_out, double* pdf_out);
 /* volume_from_surface: the sum over the store's VSLs, 4 randoms per VSL from rng. */
-vbl_vec3 vbl_volume_from_surface(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, double g_camera,
-                                 const vbl_surface_vsl_store* store, double radius,
-                                 vbl_surface_camera_medium_fn medium, void* ctx, int n, vbl_rng* rng);
+vbl_vec3 vbl_volume_from_surface(const vbl_segment* camera, double g_camera, const vbl_surface_vsl_store* store,
+                                 double radius, vbl_surface_camera_medium medium, int n, vbl_rng* rng);
 
 #endif

@@ -8,6 +8,7 @@
 #include "sampling/equiangular.h"
 #include "sampling/phase_hg.h"
 #include "media/media.h"
+#include "media/medium.h"
 #include "transport/common/light_emission.h"
 #include "transport/common/photon_trace.h"
 #include "transport/common/single_scatter.h"
@@ -105,7 +106,7 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
-    double comps[VBL_MAX_MEDIA];
+    vbl_medium_point mu;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < s->photons.vpl_count; ++j) {
         if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
@@ -120,11 +121,11 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
         if (!(w2 > 0.0)) continue;
         double w = sqrt(w2);
         vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VPL -> x_u */
-        double sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps);
+        double sigma_t = vbl_medium_query(scene, ctx->extinction, &ts->cursor, xu, &mu);
         if (!(sigma_t > 0.0)) continue;
         double Tc = vbl_transmittance_cache_eval(&cache, u);
         if (!(Tc > 0.0)) continue;
-        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps, -vbl_v3_dot(omega, d));
+        vbl_vec3 ku = vbl_medium_phase_kernel(&mu, -vbl_v3_dot(omega, d));
         vbl_vec3 iv = vbl_vpl_intensity(scene, p, vbl_v3_dot(p->incident, omega));
         vbl_vec3 f = vbl_v3_mul(ku, iv);
         if (!(vbl_v3_max_component(f) > 0.0)) continue;

@@ -9,6 +9,7 @@
 #include "sampling/vrl_camera_mis.h"
 #include "sampling/vrl_pair.h"
 #include "media/media.h"
+#include "media/medium.h"
 #include "transport/common/light_emission.h"
 #include "transport/common/photon_trace.h"
 #include "transport/common/single_scatter.h"
@@ -259,7 +260,7 @@ static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store*
 {
     const vbl_scene* scene = ctx->scene;
     const int S = s->settings.samples;
-    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_medium_point mu, mv;
     vbl_vrl_pair pair;
     if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g))
         return;
@@ -281,10 +282,10 @@ static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store*
         if (!(Tc > 0.0)) continue;
         double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
         if (!(Tl > 0.0)) continue;
-        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
-        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
-        vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
-        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
+        if (!(vbl_medium_query(scene, ctx->extinction, &ts->cursor, xv, &mv) > 0.0)) continue;
+        if (!(vbl_medium_query(scene, ctx->extinction, &ts->cursor, xu, &mu) > 0.0)) continue;
+        vbl_vec3 kv = vbl_medium_phase_kernel(&mv, vbl_v3_dot(l->direction, omega));
+        vbl_vec3 ku = vbl_medium_phase_kernel(&mu, -vbl_v3_dot(omega, d));
         vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
         if (!(vbl_v3_max_component(f) > 0.0)) continue;
         double Tw = vbl_vrl_connect_transmittance(ctx, &s->connect, ts, xv, omega, w, rng);
@@ -405,7 +406,7 @@ int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl
     const vbl_vrl_store* s = store;
     const vbl_scene* scene = ctx->scene;
     const vbl_vrl* l = &s->photons.vrls[vrl];
-    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    vbl_medium_point mu, mv;
     vbl_vrl_pair pair;
     memset(out, 0, sizeof *out);
     if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g)) return 0;
@@ -428,13 +429,13 @@ int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl
     out->phase_geometry = vbl_vrl_pair_phase_geometry(&pair, ps.u, ps.v);
     out->tc = vbl_transmittance_cache_eval(cache, ps.u);
     out->tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
-    double su = vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u);
-    double sv = vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v);
+    double su = vbl_medium_query(scene, ctx->extinction, &ts->cursor, xu, &mu);
+    double sv = vbl_medium_query(scene, ctx->extinction, &ts->cursor, xv, &mv);
     out->sigma_u = su;
     out->sigma_v = sv;
     if (su > 0.0 && sv > 0.0) {
-        vbl_vec3 kv = vbl_media_scatter_kernel(scene, comps_v, vbl_v3_dot(l->direction, omega));
-        vbl_vec3 ku = vbl_media_scatter_kernel(scene, comps_u, -vbl_v3_dot(omega, d));
+        vbl_vec3 kv = vbl_medium_phase_kernel(&mv, vbl_v3_dot(l->direction, omega));
+        vbl_vec3 ku = vbl_medium_phase_kernel(&mu, -vbl_v3_dot(omega, d));
         vbl_vec3 f = vbl_v3_mul(vbl_v3_mul(kv, ku), l->power);
         out->f = f.x + f.y + f.z;
         out->power = l->power.x + l->power.y + l->power.z;
