@@ -129,6 +129,44 @@ class TestLayers(unittest.TestCase):
             self.assertIn("volume_emission", vbl.TRANSPORT_LAYERS)
             total = sum(film.layer(name) for name in film.layers)
             numpy.testing.assert_allclose(total, film.beauty[..., :3], rtol=1e-5, atol=1e-7)
+            # the totals are colour layers summing their classes, not AOVs and not in `layers`
+            self.assertEqual(film.totals, ["volume_indirect"])  # no surfaces: no surface_indirect
+            self.assertTrue(set(film.totals) <= set(vbl.TOTAL_LAYERS))
+            for name in film.totals:
+                self.assertNotIn(name, film.layers)
+            members = {"volume_indirect": ("volume_from_surface", "volume_from_volume"),
+                       "surface_indirect": ("surface_from_surface", "surface_from_volume")}
+            for name in film.totals:
+                parts = members[name]
+                want = sum(film.layer(p) for p in parts if p in film.layers)
+                numpy.testing.assert_allclose(film.layer(name), want, rtol=1e-6, atol=1e-9)
+            self.assertEqual(film.light_groups, [])
+
+    def test_light_groups_are_colour_layers(self):
+        data = scene_dict()
+        data["lights"][0]["group"] = "key"  # the sky stays in the group `default`
+        with vbl.Scene.from_dict(data, base_dir=FIXTURES) as scene:
+            film = vbl.render(scene, light_groups=1)
+            self.assertEqual(sorted(film.light_groups), ["lightgroup_default", "lightgroup_key"])
+            for name in film.light_groups:
+                self.assertNotIn(name, film.aovs)
+                self.assertNotIn(name, film.layers)
+            # the classes still sum to the beauty; the groups do too (to float rounding)
+            total = sum(film.layer(name) for name in film.layers)
+            numpy.testing.assert_allclose(total, film.beauty[..., :3], rtol=1e-5, atol=1e-7)
+            groups = sum(film.layer(name) for name in film.light_groups)
+            numpy.testing.assert_allclose(groups, film.beauty[..., :3], rtol=1e-5, atol=1e-6)
+            self.assertGreater(float(film.layer("lightgroup_key").max()), 0.0)
+
+    def test_scene_shot_overrides(self):
+        with vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, width=20, height=10) as scene:
+            self.assertEqual(scene.resolution, (20, 10))
+            film = vbl.render(scene)
+            self.assertEqual((film.width, film.height), (20, 10))
+        with self.assertRaises(vbl.InvalidArgument):
+            vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, width=20)
+        with self.assertRaises(vbl.FileNotFound):
+            vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, camera="no-such-camera")
 
 
 class TestInterrupt(unittest.TestCase):
