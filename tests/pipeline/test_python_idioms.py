@@ -252,7 +252,8 @@ class TestWriteExr(unittest.TestCase):
                 if name != "vbl:render_seconds":
                     self.assertEqual(want[name], have[name], name)
             self.assertEqual(have["vbl:status"], "complete")
-            self.assertEqual(sorted(a.layer_names), sorted(["", "Z"] + film.layers + ["samples", "variance"]))
+            self.assertEqual(sorted(a.layer_names),
+                             sorted(["", "Z"] + film.layers + film.totals + ["samples", "variance"]))
             # --output-space: the same conversion as the CLI's
             subprocess.run([cli, "render", path, "-o", os.path.join(tmp, "cli_acescg.exr"), "--threads", "2",
                             "--output-space", "ACEScg", "--quiet"], check=True, stdout=subprocess.DEVNULL)
@@ -278,6 +279,43 @@ class TestWriteExr(unittest.TestCase):
             resumed = vbl.ExrFile(os.path.join(tmp, "part.exr"))
             self.assertEqual(resumed.attributes["vbl:passes"], 2)
             numpy.testing.assert_allclose(resumed.layer(""), a.layer(""), rtol=4e-7, atol=0)
+
+    def test_same_file_as_the_cli_transparent_groups_acescg(self):
+        """Transparent, light groups, a total layer, HALF and --output-space together: the beauty
+        and the totals re-summed from the converted classes (background left out), the
+        vbl:transparent / vbl:alpha / camera-matrix attributes: all from the one writer."""
+        cli = os.environ.get("VBL_CLI")
+        if not cli or not vbl.native_available():
+            self.skipTest("VBL_CLI not set or libvbl_python not built")
+        with tempfile.TemporaryDirectory() as tmp:
+            data = scene_dict()
+            data["media"][0]["vdb"] = BOX
+            data["lights"][0]["group"] = "key"
+            path = os.path.join(tmp, "scene.json")
+            with open(path, "w") as f:
+                json.dump(data, f)
+            subprocess.run([cli, "render", path, "-o", os.path.join(tmp, "cli.exr"), "--threads", "2", "--passes", "1",
+                            "--transparent", "on", "--light-groups", "on", "--output-space", "ACEScg",
+                            "--aov", "variance", "--half-layers", "volume_direct,lightgroup_key", "--quiet"],
+                           check=True, stdout=subprocess.DEVNULL)
+            with vbl.Scene(path) as scene:
+                film = vbl.render(scene, threads=2, passes=1, transparent=1, light_groups=1)
+                film.write_exr(os.path.join(tmp, "py.exr"), aovs="variance", output_space="ACEScg",
+                               half_layers=["volume_direct", "lightgroup_key"])
+            a, b = vbl.ExrFile(os.path.join(tmp, "cli.exr")), vbl.ExrFile(os.path.join(tmp, "py.exr"))
+            self.assertIn("lightgroup_key.R", a.channel_names)
+            self.assertIn("volume_indirect.R", a.channel_names)
+            self.assertEqual(a.channel_names, b.channel_names)
+            for channel in a.channel_names:
+                numpy.testing.assert_array_equal(a.channel(channel), b.channel(channel), err_msg=channel)
+            want, have = a.attributes, b.attributes
+            self.assertEqual(sorted(want), sorted(have))
+            for name in want:
+                if name != "vbl:render_seconds":
+                    self.assertEqual(want[name], have[name], name)
+            self.assertEqual(have["vbl:transparent"], 1)
+            self.assertIn("worldToCamera", have)
+            self.assertIn("worldToNDC", have)
 
 
 if __name__ == "__main__":
