@@ -151,7 +151,11 @@ vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_outp
     if (!r && args->preview) r = vbl_render_check_extension(args->preview, ".png", "--preview", "a PNG file");
     if (!r) r = vbl_render_check_dir(args->output, "output EXR");
     if (!r && args->preview) r = vbl_render_check_dir(args->preview, "preview PNG");
-    if (!r) r = vbl_render_exr_check_half_layers(args->half_layers);
+    if (!r && vbl_render_exr_check_half_layers(args->half_layers)) {
+        char msg[2048];
+        snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
+        r = vbl_report_error(VBL_ERROR_INVALID_ARGUMENT, "--half-layers: %s", msg);
+    }
     vbl_render_exr_settings* x = &o->exr;
     vbl_render_exr_settings_init(x);
     x->scene_label = args->scene_path;

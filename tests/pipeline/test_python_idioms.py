@@ -242,6 +242,9 @@ class TestWriteExr(unittest.TestCase):
                 film.write_exr(os.path.join(tmp, "py.exr"), aovs="all")
                 with self.assertRaises(vbl.InvalidArgument):
                     film.write_exr(os.path.join(tmp, "bad.exr"), aovs=["depth"])
+                with self.assertRaises(vbl.InvalidArgument):  # as --half-layers Z
+                    film.write_exr(os.path.join(tmp, "bad.exr"), half_layers=["Z"])
+                self.assertFalse(os.path.exists(os.path.join(tmp, "bad.exr")))
             a, b = vbl.ExrFile(os.path.join(tmp, "cli.exr")), vbl.ExrFile(os.path.join(tmp, "py.exr"))
             self.assertEqual(a.channel_names, b.channel_names)
             for channel in a.channel_names:

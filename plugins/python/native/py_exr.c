@@ -30,7 +30,13 @@ vbl_result vbl_py_film_write_exr(const vbl_film* film, const char* path, const v
     s->half_all = o->half_all;
     s->half_layers = o->half_layers;
     s->compression = o->compression;
-    vbl_result r = vbl_render_exr_hash_file(s, scene_path);
+    vbl_result r = vbl_render_exr_check_half_layers(o->half_layers);
+    if (r) {
+        char msg[2048];
+        snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
+        r = vbl_report_error(r, "%s: half_layers: %s", path, msg);
+    }
+    if (!r) r = vbl_render_exr_hash_file(s, scene_path);
     vbl_render_exr_set_scene(s, o->scene);
     vbl_py_color* own = NULL;
     const vbl_py_color* color = o->color;

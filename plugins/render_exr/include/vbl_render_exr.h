@@ -50,7 +50,8 @@ void vbl_render_exr_set_scene(vbl_render_exr_settings* s, const vbl_scene* scene
 /* 1 if the n bytes at p name a colour layer --half-layers takes: beauty, a transport class, a
  * total (volume_indirect, surface_indirect), lightgroup_<name>, variance. */
 int vbl_render_exr_is_colour_layer(const char* p, size_t n);
-/* VBL_ERROR_INVALID_ARGUMENT naming the first entry of `list` that is not a colour layer. */
+/* VBL_ERROR_INVALID_ARGUMENT "'X' is not a colour layer (beauty, ...)" for the first entry of
+ * `list` that is not one. */
 vbl_result vbl_render_exr_check_half_layers(const char* list);
 
 /* ---- layers ------------------------------------------------------------------------------ */

@@ -81,7 +81,7 @@ vbl_result vbl_render_exr_check_half_layers(const char* list)
         size_t n = strcspn(p, ",");
         if (!vbl_render_exr_is_colour_layer(p, n))
             return vbl_report_error(VBL_ERROR_INVALID_ARGUMENT,
-                                    "--half-layers: '%.*s' is not a colour layer (beauty, background, volume_direct, "
+                                    "'%.*s' is not a colour layer (beauty, background, volume_direct, "
                                     "volume_from_volume, ..., volume_indirect, surface_indirect, variance; Z and "
                                     "samples are always FLOAT)",
                                     (int)n, p);
