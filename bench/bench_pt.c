@@ -5,6 +5,8 @@
  *   build/bench/bench_pt [--scene bench/scenes/smoky_lambert_room.json] [--res 64x48] [--spp 64]
  *       [--reference-seconds 120] [--threads 2] [--configs eq_off,eq_on,...] [--vdb build/samples/cloud.vdb]
  *
+ * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
+ * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales).
  * Every configuration renders --spp passes of 1 sample per pixel with the same seed. Per layer it
  * prints rMAE (sum |I - Iref| / sum |Iref|) and rMAE scaled to the first configuration's CPU time,
  * rMAE * sqrt(c / c_first) (noise falls as 1/sqrt(samples), so this is the error it would reach in
@@ -27,22 +29,25 @@ typedef struct bench_config {
     vbl_mis_heuristic mis;
     vbl_transmittance_estimator shadow; /* options.transmittance */
     double majorant_scale;              /* options.transmittance_majorant_scale (0: default) */
+    vbl_pt_sampler sampler;             /* options.pt_sampler */
 } bench_config;
 
 static const bench_config bench_configs[] = {
-    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0},
-    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0},
-    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0},
-    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0},
-    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0},
-    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0},
-    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0},
-    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0},
-    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0},
-    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0},
-    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0},
-    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0},
-    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0},
+    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT},
+    {"eq_off_sobol", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL},
+    {"eq_on_sobol", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 
@@ -104,6 +109,7 @@ int main(int argc, char** argv)
         o.seed = 1;
         o.threads = threads;
         o.pt.equiangular = bc->equiangular;
+        o.pt.sampler = bc->sampler;
         o.mis = bc->mis;
         o.transmittance = bc->shadow;
         if (bc->majorant_scale > 0.0) o.transmittance_majorant_scale = bc->majorant_scale;

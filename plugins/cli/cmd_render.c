@@ -51,6 +51,7 @@ static int vbl_render_fail(vbl_progress* progress, vbl_result r)
 /* One output file (one frame). */
 static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
 {
+    const double frame_start = vbl_render_now(); /* --time-limit counts from here, loading included */
     vbl_render_output* output = NULL;
     vbl_result r = vbl_render_output_create(args, &output);
     if (r) return vbl_render_fail(progress, r);
@@ -139,9 +140,19 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
     double start = vbl_render_now();
     vbl_film* film = NULL;
     const char* status = "failed";
-    r = vbl_render_run(scene, &options, args, output, progress, base_passes, total, &film, &status);
+    /* the library's clock starts at vbl_render: give it what loading left of the limit (the EXR
+     * records the limit as given) */
+    vbl_render_options run_options = options;
+    if (options.time_limit > 0.0) {
+        double left = options.time_limit - (start - frame_start);
+        run_options.time_limit = left > 1e-6 ? left : 1e-6;
+    }
+    r = vbl_render_run(scene, &run_options, args, output, progress, base_passes, total, &film, &status);
     int exit_code = VBL_EXIT_OK;
-    if (r == VBL_ERROR_INTERRUPTED) {
+    if (r == VBL_ERROR_INTERRUPTED && !film && !vbl_render_interrupted()) {
+        /* the time limit ended the first pass: the library's message says where; nothing written */
+        exit_code = vbl_render_fail(progress, r);
+    } else if (r == VBL_ERROR_INTERRUPTED) {
         vbl_clear_error();
         exit_code = VBL_EXIT_INTERRUPTED;
         vbl_progress_note(progress, film ? "interrupted; writing the passes done so far"

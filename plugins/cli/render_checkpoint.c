@@ -98,7 +98,7 @@ static int vbl_render_loop_callback(const vbl_render_progress* p, void* user)
         return 1;
     }
     if (p->pass >= p->passes) return 0;
-    if (s->options->time_limit > 0.0 && elapsed >= s->options->time_limit) {
+    if (s->options->time_limit > 0.0 && elapsed >= s->options->time_limit && p->pass >= s->options->min_passes) {
         s->stop = VBL_STOP_TIME_LIMIT;
         return 1;
     }

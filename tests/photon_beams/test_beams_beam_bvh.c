@@ -104,7 +104,7 @@ static void test_bvh_deterministic_and_invalid(void** state)
     vbl_rng rng = vbl_rng_make(13, 0, 0);
     make_beams(beams, NB, &rng);
     vbl_beam_bvh a, b;
-    vbl_beam_bvh_options opt = {0.5, 2, 16};
+    vbl_beam_bvh_options opt = {0.5, 2, 16, NULL, NULL};
     assert_int_equal(vbl_beam_bvh_build(&a, beams, NB, &opt), VBL_SUCCESS);
     assert_int_equal(vbl_beam_bvh_build(&b, beams, NB, &opt), VBL_SUCCESS);
     assert_true(a.node_count == b.node_count && a.piece_count == b.piece_count);

@@ -131,10 +131,11 @@ static void test_sigint_mid_pass(void** state)
     remove(out_copy);
 }
 
-/* A second SIGINT aborts at once. One pixel inside the medium with 10^6 samples (seconds;
- * the option table's maximum): the first signal waits for that pixel (the pass is stopped per pixel), the second,
- * 0.2 s later, exits 5 right away, without the final JSON lines and without a file (no pass was
- * complete). Were the second signal ignored, the test would wait for the pixel and fail. */
+/* Two SIGINTs during one pixel of 10^6 samples (seconds; the option table's maximum): exit 5
+ * without a file (no pass was complete). The pixel now stops within 16 samples of the first
+ * signal (the render has no uninterruptible phase left but scene loading and blue-noise VSLs), so
+ * whether the second signal or the first ends the process is a race: the test asserts what holds
+ * either way, and the first-signal path on its own is test_sigint_mid_pass. */
 static void test_second_sigint_aborts(void** state)
 {
     (void)state;
@@ -158,12 +159,11 @@ static void test_second_sigint_aborts(void** state)
     wait_for(pid, log, "\"event\":\"start\"", 1);
     pt_sleep_ms(200);
     kill(pid, SIGINT);
-    pt_sleep_ms(200);
     kill(pid, SIGINT);
     int status = wait_exit(pid);
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 5);
-    assert_int_equal(count_in_file(log, "\"event\":\"end\""), 0);
+    assert_true(count_in_file(log, "\"event\":\"end\"") <= 1);
     assert_true(access(out, F_OK) != 0);
 }
 

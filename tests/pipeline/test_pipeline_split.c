@@ -187,7 +187,7 @@ static void test_merge_refusals(void** state)
     remove(out);
 }
 
-/* A render stopped by --time-limit after its first pass, resumed, equals the plain render. */
+/* A render stopped by --time-limit after its first pass (--min-passes 1), resumed, equals the plain render. */
 static void test_resume_after_time_limit(void** state)
 {
     (void)state;
@@ -196,7 +196,7 @@ static void test_resume_after_time_limit(void** state)
     const char* out = ct_path(pt_dir, "resumed.exr");
     snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all", pt_scene, plain);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --time-limit 0.000001", pt_scene,
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --passes 6 --spp 16 --aov all --time-limit 0.000001 --min-passes 1", pt_scene,
              out);
     run_ok(args);
     vbl_exr_image* cp = pt_read_exr(out);
@@ -282,7 +282,7 @@ static void test_resume_pass_range(void** state)
     const char* out = ct_path(pt_dir, "range.exr");
     snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7", pt_scene, ref);
     run_ok(args);
-    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --time-limit 0.000001", pt_scene, out);
+    snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 3-7 --time-limit 0.000001 --min-passes 1", pt_scene, out);
     run_ok(args);
     snprintf(args, sizeof args, "render '%s' -o '%s' -q --pass-range 4-7 --resume", pt_scene, out);
     pt_run_expect(args, 3, "first_pass");

@@ -392,7 +392,8 @@ static void test_cancel_and_time_limit(void** state)
     assert_true(samples[0] == 1.0f);
     vbl_film_release(film);
     o = options_for(1000, 1, -1, 1);
-    o.time_limit = 1e-9; /* stops after the first pass */
+    o.time_limit = 1e-9; /* with min_passes 1: stops after the first pass */
+    o.min_passes = 1;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
     vbl_film_stats stats;
     memset(&stats, 0, sizeof stats);

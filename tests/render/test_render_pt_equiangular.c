@@ -53,6 +53,28 @@ static eq_case make_case(int local_lights)
     return c;
 }
 
+/* The smoky Lambert box of test_surface_blue_noise (open front, a smoke ball of radius 0.7 and
+ * peak sigma_t 3 about the centre, a point light above it inside the ball's grid bounds): the
+ * configuration where equiangular NEE once biased volume_from_surface (+6%). */
+static eq_case make_box_case(void)
+{
+    eq_case c;
+    vbl_camera cam = rt_camera(vbl_v3(0.0, -3.2, 0.0), vbl_v3(0, 0, 0), 40.0, W, H);
+    c.scene = tt_scene(&cam);
+    tt_add_point(c.scene, vbl_v3(0.2, 0.1, 0.8), 3.0);
+    vbl_material grey = {VBL_MATERIAL_LAMBERT, {0.6, 0.6, 0.6}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material red = {VBL_MATERIAL_LAMBERT, {0.7, 0.2, 0.2}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material green = {VBL_MATERIAL_LAMBERT, {0.2, 0.6, 0.3}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(c.scene, vbl_v3(0, 0, -1), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), &grey);  /* floor */
+    add_quad(c.scene, vbl_v3(0, 0, 1), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), &grey);   /* ceiling */
+    add_quad(c.scene, vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, 1), &green);  /* back */
+    add_quad(c.scene, vbl_v3(-1, 0, 0), vbl_v3(0, 1, 0), vbl_v3(0, 0, 1), &red);   /* left */
+    add_quad(c.scene, vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), vbl_v3(0, 0, 1), &grey);   /* right */
+    c.volume = tt_make_sphere(12, 0.7);
+    assert_int_equal(vbl_scene_add_medium(c.scene, c.volume, 3.0, vbl_v3(0.8, 0.8, 0.8), 0.3, NULL), VBL_SUCCESS);
+    return c;
+}
+
 static double g_majorant_scale = 1.0; /* options.transmittance_majorant_scale of render_pt */
 
 static vbl_film* render_pt(const vbl_scene* scene, int equiangular, int passes, int spp, uint64_t seed, int threads)
@@ -124,6 +146,30 @@ static void test_equiangular_agrees_per_layer(void** state)
         printf("%-22s majorant x4 %.6f (se %.6f)  z = %+.2f vs off\n", layer_names[l], m_k[l], se_k[l], z);
         assert_true(fabs(z) <= Z_CRIT);
     }
+    vbl_scene_release(c.scene);
+    vt_free(c.volume);
+}
+
+/* The same in the smoky box (surfaces all round, point light only). */
+static void test_equiangular_agrees_in_box(void** state)
+{
+    (void)state;
+    eq_case c = make_box_case();
+    double m_on[VBL_CLASS_COUNT], se_on[VBL_CLASS_COUNT], m_off[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
+    layer_stats(c.scene, 1, 404, m_on, se_on);
+    layer_stats(c.scene, 0, 505, m_off, se_off);
+    int checked = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        double se = sqrt(se_on[l] * se_on[l] + se_off[l] * se_off[l]);
+        if (!(m_off[l] > 0.0)) continue;
+        double z = (m_on[l] - m_off[l]) / se;
+        printf("box %-22s on %.6f (se %.6f)  off %.6f (se %.6f)  z = %+.2f  rel %+.4f\n", layer_names[l], m_on[l],
+               se_on[l], m_off[l], se_off[l], z, m_on[l] / m_off[l] - 1.0);
+        assert_true(se > 0.0 && se < 0.2 * m_off[l]);
+        assert_true(fabs(z) <= Z_CRIT);
+        ++checked;
+    }
+    assert_true(checked >= 6);
     vbl_scene_release(c.scene);
     vt_free(c.volume);
 }
@@ -227,6 +273,18 @@ static void test_scene_file_option(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
     assert_non_null(strstr(vbl_last_error_message(), "render.pt.equiangular"));
+    /* render.pt.sampler: independent | sobol */
+    rt_write_file(dir, "s.json", "{" CAMERA ", \"render\": {\"pt\": {\"sampler\": \"sobol\"}}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
+    vbl_render_options so = VBL_RENDER_OPTIONS_DEFAULT;
+    assert_int_equal(so.pt.sampler, VBL_PT_SAMPLER_INDEPENDENT);
+    assert_int_equal(vbl_scene_render_options(scene, &so), VBL_SUCCESS);
+    assert_int_equal(so.pt.sampler, VBL_PT_SAMPLER_SOBOL);
+    vbl_scene_release(scene);
+    scene = NULL;
+    rt_write_file(dir, "s_bad.json", "{" CAMERA ", \"render\": {\"pt\": {\"sampler\": \"halton\"}}}", path);
+    assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
+    assert_non_null(strstr(vbl_last_error_message(), "render.pt.sampler"));
     rt_write_file(dir, "bad2.json", "{" CAMERA ", \"render\": {\"pt\": {\"equiangle\": true}}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_ERROR_SCENE);
     /* render.transmittance_majorant_scale: [1, 64] */
@@ -266,7 +324,9 @@ int main(int argc, char** argv)
     };
     const struct CMUnitTest agreement[] = {
         cmocka_unit_test(test_equiangular_agrees_per_layer),
+        cmocka_unit_test(test_equiangular_agrees_in_box),
     };
+    if (argc > 2) cmocka_set_test_filter(argv[2]);
     if (argc > 1 && !strcmp(argv[1], "agreement")) return cmocka_run_group_tests(agreement, NULL, NULL);
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

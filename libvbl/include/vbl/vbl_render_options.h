@@ -55,6 +55,13 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
+/* pt's random numbers for the pixel position and the light/direction sample dimensions
+ * (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+typedef enum vbl_pt_sampler {
+    VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
+    VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
+} vbl_pt_sampler;
+
 /* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
 typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_RATIO = 0, /* ratio tracking (unbiased) */
@@ -118,9 +125,11 @@ typedef enum vbl_render_option_effect {
  *     options.<prefix><member> (options.passes, options.vrl.samples);
  *   - name: the option's stable name (reflection, vbl:options_hash, messages): "vrl_samples".
  * F(member prefix, member, c type, default): a struct field that is not an option (callbacks; `cancel`:
- *   may be NULL; once *cancel is non-zero the pass in progress stops at its next pixel and is dropped,
- *   so the film holds only complete passes; vbl_render then returns VBL_ERROR_INTERRUPTED with the
- *   film of the passes done, NULL if none. While cancel or a time limit is set the driver keeps a copy
+ *   may be NULL; once *cancel is non-zero the pass in progress stops (light tracing between blocks of
+ *   64 paths, the beam BVH every 1024 nodes, the VRL light tree, the camera pass at its next pixel,
+ *   every 16 samples and every 256 virtual lights) and is dropped, so the film holds only complete
+ *   passes; vbl_render then returns VBL_ERROR_INTERRUPTED with the film of the passes done, NULL if
+ *   none. time_limit stops a pass the same way, the first one included. While cancel or a time limit is set the driver keeps a copy
  *   of the accumulators of the last complete pass, 256 bytes per pixel).
  * The order in each list is its struct's (ABI): append new options at the end of their group's list. */
 #define VBL_RENDER_OPTIONS_COMMON(X, F)                                                                      \
@@ -135,7 +144,7 @@ typedef enum vbl_render_option_effect {
       "random seed (scene files: at most 2^53)")                                                             \
     X(, time_limit, time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL,     \
       PASSES,                                                                                                \
-      "seconds: a pass running past it stops at its next pixel and is dropped; the first always completes (0: none)") \
+      "seconds: a pass running past it stops (in light tracing, builds or at a pixel) and is dropped; no pass done: no image (0: none)") \
     X(, threads, threads, int, INT, NULL, "--threads", 0, 0, 4096, 0, NULL, NONE, "worker threads (0: all cores)") \
     X(, max_bounces, max_bounces, int, INT, "max_bounces", "--max-bounces", -1, -1, 1e9, VBL_OPTION_HASH_ALWAYS, \
       NULL, HASH, "scattering events per path (-1: unlimited)")                                             \
@@ -158,12 +167,17 @@ typedef enum vbl_render_option_effect {
       "element over A; without it A = 1 wherever a background is rendered")                               \
     X(, light_groups, light_groups, int, BOOL, "light_groups", "--light-groups", 0, 0, 1, 0, NULL, HASH,    \
       "one beauty layer per light group (lights' \"group\"; untagged lights and emissive media: default); "   \
-      "renders the groups one after another (time x groups)")
+      "renders the groups one after another (time x groups)")                                               \
+    X(, min_passes, min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,         \
+      "passes that complete even past time_limit (0: the limit holds for the first pass too)")
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
     X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 0, 0, 1, 0, NULL,   \
-      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")
+      HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
+    X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
+      0, 1, 0, "independent|sobol", HASH,                                                                    \
+      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

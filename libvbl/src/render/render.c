@@ -9,7 +9,9 @@
 #include "core/error.h"
 #include "film/film.h"
 #include "render/render_internal.h"
+#include "sampling/sobol.h"
 #include "transport/common/estimator.h"
+#include "transport/path_tracing/pt.h"
 
 #define VBL_TILE 16
 
@@ -38,13 +40,25 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     const int spp = ctx->options.spp;
     double pass_beauty[3] = {0.0, 0.0, 0.0};
     double components[VBL_MAX_MEDIA];
+    /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
+    const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
+    const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
     for (int s = 0; s < spp; ++s) {
+        if ((s & 15) == 15 && vbl_render_stop_requested(ctx)) return; /* the driver drops the pass */
         vbl_camera_sample cs;
         cs.px = px;
         cs.py = py;
         cs.pixel_index = pixel_index;
-        cs.sx = px + vbl_rng_uniform(&rng);
-        cs.sy = py + vbl_rng_uniform(&rng);
+        cs.sample_index = (uint32_t)((uint64_t)ctx->pass * (uint64_t)spp + (uint64_t)s);
+        if (sobol) {
+            double u, v;
+            vbl_sobol_pair(pixel_key, cs.sample_index, &u, &v);
+            cs.sx = px + u;
+            cs.sy = py + v;
+        } else {
+            cs.sx = px + vbl_rng_uniform(&rng);
+            cs.sy = py + vbl_rng_uniform(&rng);
+        }
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
         cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
         int surface_hit = 0;
@@ -105,11 +119,14 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     }
 }
 
-/* The cancel flag is set, or (once a pass is done) the time limit is reached. */
-static int vbl_render_stop_requested(const vbl_render_options* o, double start, int passes_done)
+/* The cancel flag is set or the time limit has passed (estimator.h). */
+int vbl_render_stop_requested(const vbl_render_context* ctx)
 {
-    if (o->cancel && *o->cancel) return 1;
-    return o->time_limit > 0.0 && passes_done > 0 && omp_get_wtime() - start >= o->time_limit;
+    const vbl_render_options* o = &ctx->options;
+    if (ctx->stop_latch && *ctx->stop_latch) return 1;
+    int stop = (o->cancel && *o->cancel) || (ctx->deadline > 0.0 && omp_get_wtime() >= ctx->deadline);
+    if (stop && ctx->stop_latch) *ctx->stop_latch = 1;
+    return stop;
 }
 
 /* What vbl_render_snapshot needs from inside the pass loop. */
@@ -199,16 +216,23 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
+    volatile int stop_latch = 0;
+    ctx.stop_latch = &stop_latch;
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
+    int cut_in_light_phase = 0; /* the dropped pass stopped in pass_begin (light tracing, builds) */
+    volatile int tiles_done = 0; /* of the dropped pass, for the message when no pass completed */
     vbl_render_driver driver = {scene, &ctx.options, accum, 0, ctx.threads, start};
-    /* Stopping inside a pass (cancel flag, time limit after the first pass) restores the
-     * accumulators of the last complete pass from this copy: the film never holds part of a pass. */
+    /* Stopping inside a pass (cancel flag, time limit) restores the accumulators of the last
+     * complete pass from this copy: the film never holds part of a pass. The time limit applies to
+     * the first pass too: one stopped there leaves no complete pass and no film. */
     vbl_pixel_accum* backup = NULL;
     for (int pass = 0; pass < options->passes; ++pass) {
         double pass_start = omp_get_wtime();
+        /* the first min_passes passes complete whatever the time */
+        ctx.deadline = options->time_limit > 0.0 && passes_done >= options->min_passes ? start + options->time_limit : 0.0;
+        const int stoppable = options->cancel || ctx.deadline > 0.0;
         ctx.pass = (uint32_t)(options->first_pass + pass); /* absolute pass: seeds and radii */
-        const int stoppable = options->cancel || (options->time_limit > 0.0 && passes_done > 0);
-        if (stoppable && vbl_render_stop_requested(options, start, passes_done)) {
+        if (stoppable && vbl_render_stop_requested(&ctx)) {
             if (options->cancel && *options->cancel) cancelled = 1;
             else time_limited = 1;
             break;
@@ -222,11 +246,22 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
         void* store = NULL;
         if (est->pass_begin && (r = est->pass_begin(&ctx, &store))) {
+            if (r == VBL_ERROR_INTERRUPTED && stoppable && vbl_render_stop_requested(&ctx)) {
+                /* stopped in light tracing or a build: the pass_begin freed its store */
+                vbl_clear_error();
+                if (passes_done > 0) memcpy(accum, backup, pixel_count * sizeof *backup);
+                discarded = 1;
+                cut_in_light_phase = 1;
+                if (options->cancel && *options->cancel) cancelled = 1;
+                else time_limited = 1;
+                break;
+            }
             free(backup);
             free(accum);
             return r;
         }
         volatile int stop_pass = 0;
+        tiles_done = 0;
 #pragma omp parallel num_threads(ctx.threads)
         {
             vbl_thread_state ts;
@@ -240,14 +275,21 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 int y1 = y0 + VBL_TILE < height ? y0 + VBL_TILE : height;
                 for (int y = y0; y < y1 && !stop_pass; ++y)
                     for (int x = x0; x < x1 && !stop_pass; ++x) {
-                        if (stoppable && vbl_render_stop_requested(options, start, passes_done)) {
+                        if (stoppable && vbl_render_stop_requested(&ctx)) {
                             stop_pass = 1;
                             break;
                         }
                         vbl_render_pixel(&ctx, est, store, &ts, x, y, &accum[(size_t)y * width + x]);
                     }
+                if (!stop_pass) {
+#pragma omp atomic
+                    tiles_done++;
+                }
             }
         }
+        /* a stop seen anywhere in the pass (a pixel's samples, a virtual-light loop) may have cut
+         * the last pixels short: the latch drops the pass too */
+        if (stop_latch) stop_pass = 1;
         if (est->pass_end) est->pass_end(&ctx, store);
         if (stop_pass) { /* drop the part of the pass rendered so far */
             if (passes_done > 0) memcpy(accum, backup, pixel_count * sizeof *backup);
@@ -268,7 +310,8 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 break;
             }
         }
-        if (options->time_limit > 0.0 && now - start >= options->time_limit && pass + 1 < options->passes) {
+        if (options->time_limit > 0.0 && now - start >= options->time_limit && pass + 1 < options->passes &&
+            passes_done >= options->min_passes) {
             time_limited = 1;
             break;
         }
@@ -276,8 +319,13 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     free(backup);
     if (passes_done == 0) { /* stopped inside the first pass: nothing to return */
         free(accum);
-        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: render cancelled during its first pass (no pass completed)",
-                         scene->path);
+        const char* why = cancelled ? "render cancelled" : "time limit reached";
+        if (cut_in_light_phase)
+            return vbl_error(VBL_ERROR_INTERRUPTED,
+                             "%s: %s during the first pass's light tracing (%d light paths; no pass completed)",
+                             scene->path, why, options->light_paths);
+        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: %s during its first pass (%d of %d tiles done; no pass completed)",
+                         scene->path, why, (int)tiles_done, tile_count);
     }
 
     vbl_film_layout layout;

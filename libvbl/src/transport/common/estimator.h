@@ -47,7 +47,20 @@ typedef struct vbl_render_context {
                                        to their uncached counterparts) */
     uint32_t pass;                /* current pass, 0-based */
     int threads;                  /* threads the driver uses */
+    double deadline;              /* omp_get_wtime() at which options.time_limit ends (0: none) */
+    volatile int* stop_latch;     /* the driver's: set once vbl_render_stop_requested said 1, so a
+                                     stop seen anywhere in a pass is seen by the driver too (NULL ok) */
 } vbl_render_context;
+
+/* 1 once the render must stop: *options.cancel is non-zero or the time limit has passed (a context
+ * zeroed by memset never stops). The long phases of pass_begin (light tracing, the light-path
+ * store, the VRL tree, blue-noise VSLs, the beam BVH) check it between fixed-size chunks and then
+ * return VBL_ERROR_INTERRUPTED; the driver drops that pass, so where a phase stopped never reaches
+ * the film and every pass still depends only on (scene, seed, options, pass index). camera_sample
+ * loops over every virtual light check it every VBL_STOP_CHECK_EVERY lights and return early:
+ * the driver drops that pass too. */
+#define VBL_STOP_CHECK_EVERY 256
+int vbl_render_stop_requested(const vbl_render_context* ctx);
 
 typedef struct vbl_thread_state {
     vbl_extinction_cursor cursor;
@@ -59,6 +72,7 @@ typedef struct vbl_camera_sample {
     int px, py;              /* pixel, row 0 at the top */
     uint64_t pixel_index;    /* py * width + px */
     double sx, sy;           /* continuous raster position inside the pixel */
+    uint32_t sample_index;   /* pass * spp + sample: the global index in the pixel's sequence (pt.sampler) */
     vbl_vec3 origin, direction; /* unit direction */
     double t_max;            /* distance to the first surface along the ray (INFINITY if none):
                                 media transport along the camera ray stops there */

@@ -316,6 +316,7 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     vbl_photon_block* blk = calloc((size_t)blocks, sizeof *blk);
     if (!blk) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d light paths", scene->path, n);
     const uint64_t seed = ctx->options.seed ^ VBL_RNG_DOMAIN_LIGHT;
+    volatile int stopped = 0; /* cancel / time limit between blocks of VBL_PHOTON_BLOCK paths */
 #pragma omp parallel num_threads(ctx->threads)
     {
         vbl_extinction_cursor cursor;
@@ -323,6 +324,10 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
         vbl_transmittance_cache* tmp = settings->long_vrls ? malloc(sizeof *tmp) : NULL;
 #pragma omp for schedule(dynamic, 1)
         for (int b = 0; b < blocks; ++b) {
+            if (stopped || vbl_render_stop_requested(ctx)) {
+                stopped = 1;
+                continue;
+            }
             if (settings->long_vrls && !tmp) {
                 blk[b].failed = 1;
                 continue;
@@ -346,6 +351,7 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
         ncau += blk[b].caustic_count;
         failed |= blk[b].failed;
     }
+    if (stopped) failed = 1; /* the blocks are freed below; the driver drops the pass */
     if (!failed) {
         out->vrls = nv ? malloc(nv * sizeof(vbl_vrl)) : NULL;
         out->vpls = np ? malloc(np * sizeof(vbl_vpl)) : NULL;
@@ -414,6 +420,8 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     free(blk);
     if (failed) {
         vbl_photon_store_free(out);
+        if (stopped)
+            return vbl_error(VBL_ERROR_INTERRUPTED, "%s: light tracing stopped (cancel or time limit)", scene->path);
         return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory storing virtual lights for %d light paths",
                          scene->path, n);
     }

@@ -22,9 +22,32 @@
 
 #include <math.h>
 
+#include "sampling/sobol.h"
 #include "scene/lights.h"
 #include "media/media.h"
 #include "transport/path_tracing/pt_equiangular.h"
+
+/* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
+ * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
+ * global index (sampling/sobol.h; pair 0, the pixel position, is drawn by the render driver). */
+typedef struct vbl_pt_dims {
+    int sobol;
+    uint64_t seed, pixel;
+    uint32_t index;
+} vbl_pt_dims;
+
+enum { VBL_PT_PAIR_LIGHT = 1, VBL_PT_PAIR_EQUIANGULAR = 2, VBL_PT_PAIR_DIRECTION = 3 };
+
+/* Two numbers of `pair` at scattering event `bounce` (0: the camera segment). */
+static void vbl_pt_u2(const vbl_pt_dims* d, uint32_t pair, int bounce, vbl_rng* rng, double* u, double* v)
+{
+    if (!d->sobol) {
+        *u = vbl_rng_uniform(rng);
+        *v = vbl_rng_uniform(rng);
+        return;
+    }
+    vbl_sobol_pair(vbl_sobol_key(d->seed, d->pixel, pair, (uint32_t)bounce), d->index, u, v);
+}
 
 static void vbl_add_scaled(vbl_vec3* acc, vbl_vec3 a, vbl_vec3 b, double s)
 {
@@ -152,16 +175,18 @@ static void vbl_pt_emission_nee_surface(const vbl_render_context* ctx, vbl_threa
     vbl_pt_collect_emission(ctx, ts, origin, wi, b, rng, &out->L[vbl_pt_class(path)]);
 }
 
-/* Picks one light uniformly and samples it from x; 0 if the sample carries no light. */
-static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, vbl_rng* rng, vbl_light_sample* ls,
-                             double* select_pdf, const vbl_light** picked)
+/* Picks one light uniformly and samples it from x (the light pair of scattering event `bounce`);
+ * 0 if the sample carries no light. */
+static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, const vbl_pt_dims* dims, int bounce, vbl_rng* rng,
+                             vbl_light_sample* ls, double* select_pdf, const vbl_light** picked)
 {
     if (scene->light_count == 0) return 0;
     *select_pdf = 1.0 / scene->light_count;
     int pick = (int)(vbl_rng_uniform(rng) * scene->light_count);
     if (pick >= scene->light_count) pick = scene->light_count - 1;
     if (picked) *picked = &scene->lights[pick];
-    double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+    double u1, u2;
+    vbl_pt_u2(dims, VBL_PT_PAIR_LIGHT, bounce, rng, &u1, &u2);
     if (!vbl_light_sample_incident(&scene->lights[pick], x, u1, u2, ls)) return 0;
     return vbl_v3_max_component(ls->li) > 0.0;
 }
@@ -175,14 +200,15 @@ typedef struct vbl_pt_segment {
 /* Next-event estimation at the medium vertex at distance t on segment `seg`. */
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const double* component_sigma_t,
-                                     const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+                                     const vbl_pt_path* path, const vbl_pt_dims* dims, vbl_vec3 beta, vbl_rng* rng,
+                                     vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
     vbl_light_sample ls;
     double select_pdf;
     const vbl_light* light = NULL;
-    if (!vbl_pt_pick_light(scene, x, rng, &ls, &select_pdf, &light)) return;
+    if (!vbl_pt_pick_light(scene, x, dims, path->events, rng, &ls, &select_pdf, &light)) return;
     double cos_theta = vbl_v3_dot(travel, ls.wi);
     vbl_vec3 kernel = vbl_media_scatter_kernel(scene, component_sigma_t, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
@@ -204,14 +230,14 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
 
 /* Next-event estimation at a surface hit (wo towards the previous vertex). */
 static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
-                                      vbl_vec3 wo, const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng,
-                                      vbl_sample_value* out)
+                                      vbl_vec3 wo, const vbl_pt_path* path, const vbl_pt_dims* dims, vbl_vec3 beta,
+                                      vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_material* m = &scene->materials[hit->material];
     vbl_light_sample ls;
     double select_pdf;
-    if (!vbl_pt_pick_light(scene, hit->position, rng, &ls, &select_pdf, NULL)) return;
+    if (!vbl_pt_pick_light(scene, hit->position, dims, path->events, rng, &ls, &select_pdf, NULL)) return;
     if (!(vbl_v3_dot(ls.wi, hit->geometric_normal) > 0.0)) return; /* below the surface: opaque */
     double cos_i = vbl_v3_dot(ls.wi, hit->shading_normal);
     if (!(cos_i > 0.0)) return;
@@ -243,6 +269,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     double components[VBL_MAX_MEDIA] = {0};
     vbl_pt_path path = {0, 0, -1};
     const int equiangular = vbl_pt_equiangular_active(ctx);
+    const vbl_pt_dims dims = {ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL, ctx->options.seed, sample->pixel_index,
+                              sample->sample_index};
     /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
      * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
      * majorant (their noise is dominated by the path, not by T) */
@@ -279,7 +307,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
             vbl_pt_path next = path;
             vbl_pt_vertex(&next, 0);
-            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, rng, &out->L[vbl_pt_class(&next)]);
+            double u_pick, u_t;
+            vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, u_pick, u_t, rng,
+                                   &out->L[vbl_pt_class(&next)]);
         }
         if (!collided && !on_surface) break; /* escaped */
         if (collided && !(sigma_t > 0.0)) break;
@@ -292,25 +323,27 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (collided) {
             vbl_vec3 x = vbl_v3_madd(origin, direction, t);
             vbl_pt_segment seg = {origin, direction, t_surface};
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, components, &path, beta, rng, out);
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, components, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             if (scene->has_emission && scene->emission_nee)
                 vbl_pt_emission_nee_medium(ctx, ts, x, direction, sigma_t, components, last, &path, beta, rng, out);
             if (last) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
-            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            u0 = vbl_rng_uniform(rng);
+            vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             if (!vbl_media_scatter(scene, components, sigma_t, direction, u0, u1, u2, &wi, &pdf, &beta)) break;
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
-            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, beta, rng, out);
+            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             if (scene->has_emission && scene->emission_nee)
                 vbl_pt_emission_nee_surface(ctx, ts, &hit, wo, last, &path, beta, rng, out);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
             const vbl_material* m = &scene->materials[hit.material];
-            u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+            u0 = vbl_rng_uniform(rng);
+            vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             vbl_vec3 f;
             if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
             double cos_i = vbl_v3_dot(wi, hit.shading_normal);

@@ -54,13 +54,12 @@ double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_lig
 }
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
+                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
+                            vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
     const int n_eq = vbl_pt_eq_light_count(scene);
-    /* the numbers are drawn whatever follows, so later dimensions keep their place */
-    double u_pick = vbl_rng_uniform(rng), u_t = vbl_rng_uniform(rng);
     double t0, t1;
     if (!vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_surface, &t0, &t1) || !(t1 > t0)) return;
     int k = (int)(u_pick * n_eq);

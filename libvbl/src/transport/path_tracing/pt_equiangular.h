@@ -26,9 +26,12 @@
 int vbl_pt_equiangular_active(const vbl_render_context* ctx);
 
 /* The equiangular sample of one segment: adds w_ea K L T T_l / (p_ea / N_eq) * beta into *L.
- * t_surface: where the segment ends (INFINITY: escapes). Draws its numbers from rng. */
+ * t_surface: where the segment ends (INFINITY: escapes). u_pick picks the light, u_t the distance
+ * (the caller draws both, whatever follows, so later dimensions keep their place); the
+ * transmittance estimates draw from rng. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L);
+                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
+                            vbl_rng* rng, vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light

@@ -150,6 +150,12 @@ vbl_result vbl_beam_bvh_build(vbl_beam_bvh* bvh, const vbl_beam* beams, size_t c
     size_t top = 0, nodes = 0;
     stack[top++] = (task){0, total, (size_t)-1, 0};
     while (top > 0) {
+        if ((nodes & 1023) == 1023 && options && options->stop && options->stop(options->stop_user)) {
+            free(info);
+            free(stack);
+            vbl_beam_bvh_free(bvh);
+            return vbl_error(VBL_ERROR_INTERRUPTED, "beam_bvh: build stopped (cancel or time limit)");
+        }
         task t = stack[--top];
         size_t id = nodes++;
         if (t.patch != (size_t)-1) bvh->nodes[t.patch].first = (uint32_t)id;

@@ -55,10 +55,14 @@ typedef struct vbl_beam_bvh_options {
     double split_aspect; /* sub-beam length / diameter; <= 0: 1 (unit aspect ratio) */
     int leaf_size;       /* max pieces per leaf; <= 0: 4 */
     int max_pieces;      /* per beam; <= 0 or > VBL_BEAM_BVH_MAX_PIECES: VBL_BEAM_BVH_MAX_PIECES */
+    int (*stop)(void* user); /* may be NULL; asked every 1024 nodes: non-zero ends the build with
+                                VBL_ERROR_INTERRUPTED (cancel, time limit) */
+    void* stop_user;
 } vbl_beam_bvh_options;
 
 /* Builds over `beams` (borrowed). Beams with non-finite data or negative radius fail with
- * VBL_ERROR_INVALID_ARGUMENT naming the beam; allocation failure gives VBL_ERROR_OUT_OF_MEMORY.
+ * VBL_ERROR_INVALID_ARGUMENT naming the beam; allocation failure gives VBL_ERROR_OUT_OF_MEMORY;
+ * options->stop saying stop gives VBL_ERROR_INTERRUPTED.
  * options may be NULL. On failure *bvh is empty (safe to free). */
 vbl_result vbl_beam_bvh_build(vbl_beam_bvh* bvh, const vbl_beam* beams, size_t count, const vbl_beam_bvh_options* options);
 void vbl_beam_bvh_free(vbl_beam_bvh* bvh);

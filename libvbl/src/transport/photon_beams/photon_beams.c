@@ -52,6 +52,9 @@ vbl_result vbl_photon_beams_trace(const vbl_render_context* ctx, int long_vrls, 
     return vbl_photon_trace_with_surfaces(&c, &ps, c.scene->surfaces != NULL, out);
 }
 
+/* The beam BVH's stop hook: the render's cancel flag and time limit. */
+static int vbl_beams_stop(void* user) { return vbl_render_stop_requested((const vbl_render_context*)user); }
+
 static int vbl_beam_used(int bounce, int M, int extra) { return M < 0 || bounce + extra <= M; }
 
 double vbl_beams_default_radius(const vbl_scene* scene, const vbl_photon_store* photons, int max_bounces, int extra,
@@ -109,7 +112,11 @@ vbl_result vbl_photon_beam_gather_build(const vbl_render_context* ctx, const vbl
         b->radius = query;
         g->vrl_index[g->count++] = (uint32_t)j;
     }
-    vbl_result r = vbl_beam_bvh_build(&g->bvh, g->beams, g->count, NULL);
+    vbl_beam_bvh_options bo;
+    memset(&bo, 0, sizeof bo); /* the defaults */
+    bo.stop = vbl_beams_stop;
+    bo.stop_user = (void*)ctx;
+    vbl_result r = vbl_beam_bvh_build(&g->bvh, g->beams, g->count, &bo);
     if (r) {
         vbl_photon_beam_gather_free(g);
         return r;

@@ -401,6 +401,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     vbl_vec3 from_volume = vbl_v3(0.0, 0.0, 0.0);
     if (gs->vrls) {
         for (size_t j = 0; j < photons->vrl_count; ++j) {
+            if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &photons->vrls[j];
             if (M >= 0 && l->bounce + 2 > M) continue;
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
@@ -419,6 +420,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     }
     if (gs->vpls) {
         for (size_t j = 0; j < photons->vpl_count; ++j) {
+            if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vpl* p = &photons->vpls[j];
             if (M >= 0 && p->bounce + 1 > M) continue;
             vbl_vec3 to = vbl_v3_sub(x, p->position);

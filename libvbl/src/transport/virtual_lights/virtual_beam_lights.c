@@ -281,6 +281,7 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
         vbl_vrl_tree_select(&s->tree, &q, K, 1.0, rng, vbl_beam_light_visit_piece, &v);
     } else {
         for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+            if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &s->photons.vrls[j];
             if (M >= 0 && l->bounce + 2 > M) continue;
             vbl_beam_light_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, 1.0, rng, &acc);

@@ -108,6 +108,7 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     double comps[VBL_MAX_MEDIA];
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
     for (size_t j = 0; j < s->photons.vpl_count; ++j) {
+        if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
         const vbl_vpl* p = &s->photons.vpls[j];
         if (M >= 0 && p->bounce + 1 > M) continue;
         double pdf = 0.0;

@@ -48,6 +48,7 @@ typedef struct vbl_piece_weight_ctx {
     const vbl_render_context* ctx;
     vbl_extinction_cursor cursor;
     double floor;
+    unsigned calls;
 } vbl_piece_weight_ctx;
 
 /* Mean sigma_s (mean of R, G, B) at VBL_VRL_SELECT_DENSITY_POINTS midpoints of [v0, v1], floored
@@ -57,6 +58,11 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
     vbl_piece_weight_ctx* w = user;
     const vbl_scene* scene = w->ctx->scene;
     double comps[VBL_MAX_MEDIA], sum = 0.0;
+    /* cancel / time limit: weight 0 leaves the remaining pieces out, so the build ends at once;
+     * the stop is latched, so the driver drops this pass at its first pixel and the tree never
+     * reaches the film */
+    if ((w->calls++ & 255u) == 255u && vbl_render_stop_requested(w->ctx)) return 0.0;
+    if (w->ctx->stop_latch && *w->ctx->stop_latch) return 0.0;
     for (int k = 0; k < VBL_VRL_SELECT_DENSITY_POINTS; ++k) {
         vbl_vec3 x = vbl_v3_madd(l->origin, l->direction, v0 + (v1 - v0) * (k + 0.5) / VBL_VRL_SELECT_DENSITY_POINTS);
         if (!(vbl_extinction_eval(w->ctx->extinction, &w->cursor, x, comps) > 0.0)) continue;
@@ -68,6 +74,9 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
     return fmax(sum / VBL_VRL_SELECT_DENSITY_POINTS, w->floor);
 }
 
+/* The tree build's stop hook: the render's cancel flag and time limit. */
+static int vbl_vrl_tree_stop(void* user) { return vbl_render_stop_requested((const vbl_render_context*)user); }
+
 vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_photon_store* photons, vbl_vrl_tree* tree)
 {
     vbl_vec3 center;
@@ -75,10 +84,12 @@ vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_ph
     if (!vbl_media_bounding_sphere(ctx->scene, &center, &radius) || !(radius > 0.0)) radius = 1.0;
     vbl_piece_weight_ctx w;
     w.ctx = ctx;
+    w.calls = 0;
     vbl_extinction_cursor_init(&w.cursor, ctx->extinction);
     w.floor = ctx->extinction->max_sigma_t > 0.0 ? 1e-3 * ctx->extinction->max_sigma_t : 1.0;
-    return vbl_vrl_tree_build(tree, photons->vrls, photons->vrl_count, ctx->options.max_bounces,
-                              VBL_VRL_SELECT_FLOOR_REL * radius, VBL_VRL_SELECT_PIECE_REL * radius, vbl_piece_weight, &w);
+    return vbl_vrl_tree_build_stoppable(tree, photons->vrls, photons->vrl_count, ctx->options.max_bounces,
+                                        VBL_VRL_SELECT_FLOOR_REL * radius, VBL_VRL_SELECT_PIECE_REL * radius,
+                                        vbl_piece_weight, &w, vbl_vrl_tree_stop, (void*)ctx);
 }
 
 vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store)
@@ -334,6 +345,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     } else {
         const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
         for (size_t j = 0; j < s->photons.vrl_count; ++j) {
+            if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &s->photons.vrls[j];
             if (M >= 0 && l->bounce + 2 > M) continue;
             double weight = 1.0 / S;

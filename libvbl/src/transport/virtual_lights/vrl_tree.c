@@ -27,9 +27,18 @@ static int vbl_tree_item_cmp(const void* pa, const void* pb)
     return a->index - b->index; /* total order: the tree does not depend on qsort's stability */
 }
 
-/* Builds the subtree over items[0 .. n-1] into tree->nodes, returns its node index. */
-static int vbl_tree_build_range(vbl_vrl_tree* tree, vbl_tree_item* items, int n, int parent)
+/* The build's stop hook (cancel, time limit): asked at every node over 1024 pieces. */
+typedef struct vbl_tree_stop {
+    int (*stop)(void* user);
+    void* user;
+    int stopped;
+} vbl_tree_stop;
+
+/* Builds the subtree over items[0 .. n-1] into tree->nodes, returns its node index (-1 once
+ * stopped: the caller discards the tree). */
+static int vbl_tree_build_range(vbl_vrl_tree* tree, vbl_tree_item* items, int n, int parent, vbl_tree_stop* st)
 {
+    if (st->stopped || (n > 1024 && st->stop && (st->stopped = st->stop(st->user) != 0))) return -1;
     const int id = tree->node_count++;
     vbl_vrl_tree_node* node = &tree->nodes[id];
     node->parent = parent;
@@ -57,8 +66,8 @@ static int vbl_tree_build_range(vbl_vrl_tree* tree, vbl_tree_item* items, int n,
     vbl_tree_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     qsort(items, (size_t)n, sizeof *items, vbl_tree_item_cmp);
     const int half = n / 2;
-    int l = vbl_tree_build_range(tree, items, half, id);
-    int r = vbl_tree_build_range(tree, items + half, n - half, id);
+    int l = vbl_tree_build_range(tree, items, half, id, st);
+    int r = vbl_tree_build_range(tree, items + half, n - half, id, st);
     tree->nodes[id].left = l;
     tree->nodes[id].right = r;
     return id;
@@ -66,6 +75,13 @@ static int vbl_tree_build_range(vbl_vrl_tree* tree, vbl_tree_item* items, int n,
 
 vbl_result vbl_vrl_tree_build(vbl_vrl_tree* tree, const vbl_vrl* vrls, size_t count, int max_bounces, double floor,
                               double piece_length, vbl_vrl_tree_weight_fn weight, void* user)
+{
+    return vbl_vrl_tree_build_stoppable(tree, vrls, count, max_bounces, floor, piece_length, weight, user, NULL, NULL);
+}
+
+vbl_result vbl_vrl_tree_build_stoppable(vbl_vrl_tree* tree, const vbl_vrl* vrls, size_t count, int max_bounces,
+                                        double floor, double piece_length, vbl_vrl_tree_weight_fn weight, void* user,
+                                        int (*stop)(void* stop_user), void* stop_user)
 {
     *tree = (vbl_vrl_tree){0};
     tree->floor = floor;
@@ -122,7 +138,13 @@ vbl_result vbl_vrl_tree_build(vbl_vrl_tree* tree, const vbl_vrl* vrls, size_t co
             vbl_vrl_tree_free(tree);
             return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "vrl tree: out of memory (%d nodes)", 2 * n - 1);
         }
-        vbl_tree_build_range(tree, items, n, -1);
+        vbl_tree_stop st = {stop, stop_user, 0};
+        vbl_tree_build_range(tree, items, n, -1, &st);
+        if (st.stopped) {
+            free(items);
+            vbl_vrl_tree_free(tree);
+            return vbl_error(VBL_ERROR_INTERRUPTED, "vrl tree: build stopped (cancel or time limit)");
+        }
     }
     free(items);
     return VBL_SUCCESS;
