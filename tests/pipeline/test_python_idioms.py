@@ -129,6 +129,44 @@ class TestLayers(unittest.TestCase):
             self.assertIn("volume_emission", vbl.TRANSPORT_LAYERS)
             total = sum(film.layer(name) for name in film.layers)
             numpy.testing.assert_allclose(total, film.beauty[..., :3], rtol=1e-5, atol=1e-7)
+            # the totals are colour layers summing their classes, not AOVs and not in `layers`
+            self.assertEqual(film.totals, ["volume_indirect"])  # no surfaces: no surface_indirect
+            self.assertTrue(set(film.totals) <= set(vbl.TOTAL_LAYERS))
+            for name in film.totals:
+                self.assertNotIn(name, film.layers)
+            members = {"volume_indirect": ("volume_from_surface", "volume_from_volume"),
+                       "surface_indirect": ("surface_from_surface", "surface_from_volume")}
+            for name in film.totals:
+                parts = members[name]
+                want = sum(film.layer(p) for p in parts if p in film.layers)
+                numpy.testing.assert_allclose(film.layer(name), want, rtol=1e-6, atol=1e-9)
+            self.assertEqual(film.light_groups, [])
+
+    def test_light_groups_are_colour_layers(self):
+        data = scene_dict()
+        data["lights"][0]["group"] = "key"  # the sky stays in the group `default`
+        with vbl.Scene.from_dict(data, base_dir=FIXTURES) as scene:
+            film = vbl.render(scene, light_groups=1)
+            self.assertEqual(sorted(film.light_groups), ["lightgroup_default", "lightgroup_key"])
+            for name in film.light_groups:
+                self.assertNotIn(name, film.aovs)
+                self.assertNotIn(name, film.layers)
+            # the classes still sum to the beauty; the groups do too (to float rounding)
+            total = sum(film.layer(name) for name in film.layers)
+            numpy.testing.assert_allclose(total, film.beauty[..., :3], rtol=1e-5, atol=1e-7)
+            groups = sum(film.layer(name) for name in film.light_groups)
+            numpy.testing.assert_allclose(groups, film.beauty[..., :3], rtol=1e-5, atol=1e-6)
+            self.assertGreater(float(film.layer("lightgroup_key").max()), 0.0)
+
+    def test_scene_shot_overrides(self):
+        with vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, width=20, height=10) as scene:
+            self.assertEqual(scene.resolution, (20, 10))
+            film = vbl.render(scene)
+            self.assertEqual((film.width, film.height), (20, 10))
+        with self.assertRaises(vbl.InvalidArgument):
+            vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, width=20)
+        with self.assertRaises(vbl.FileNotFound):
+            vbl.Scene.from_dict(scene_dict(), base_dir=FIXTURES, camera="no-such-camera")
 
 
 class TestInterrupt(unittest.TestCase):
@@ -204,6 +242,9 @@ class TestWriteExr(unittest.TestCase):
                 film.write_exr(os.path.join(tmp, "py.exr"), aovs="all")
                 with self.assertRaises(vbl.InvalidArgument):
                     film.write_exr(os.path.join(tmp, "bad.exr"), aovs=["depth"])
+                with self.assertRaises(vbl.InvalidArgument):  # as --half-layers Z
+                    film.write_exr(os.path.join(tmp, "bad.exr"), half_layers=["Z"])
+                self.assertFalse(os.path.exists(os.path.join(tmp, "bad.exr")))
             a, b = vbl.ExrFile(os.path.join(tmp, "cli.exr")), vbl.ExrFile(os.path.join(tmp, "py.exr"))
             self.assertEqual(a.channel_names, b.channel_names)
             for channel in a.channel_names:
@@ -214,7 +255,8 @@ class TestWriteExr(unittest.TestCase):
                 if name != "vbl:render_seconds":
                     self.assertEqual(want[name], have[name], name)
             self.assertEqual(have["vbl:status"], "complete")
-            self.assertEqual(sorted(a.layer_names), sorted(["", "Z"] + film.layers + ["samples", "variance"]))
+            self.assertEqual(sorted(a.layer_names),
+                             sorted(["", "Z"] + film.layers + film.totals + ["samples", "variance"]))
             # --output-space: the same conversion as the CLI's
             subprocess.run([cli, "render", path, "-o", os.path.join(tmp, "cli_acescg.exr"), "--threads", "2",
                             "--output-space", "ACEScg", "--quiet"], check=True, stdout=subprocess.DEVNULL)
@@ -240,6 +282,43 @@ class TestWriteExr(unittest.TestCase):
             resumed = vbl.ExrFile(os.path.join(tmp, "part.exr"))
             self.assertEqual(resumed.attributes["vbl:passes"], 2)
             numpy.testing.assert_allclose(resumed.layer(""), a.layer(""), rtol=4e-7, atol=0)
+
+    def test_same_file_as_the_cli_transparent_groups_acescg(self):
+        """Transparent, light groups, a total layer, HALF and --output-space together: the beauty
+        and the totals re-summed from the converted classes (background left out), the
+        vbl:transparent / vbl:alpha / camera-matrix attributes: all from the one writer."""
+        cli = os.environ.get("VBL_CLI")
+        if not cli or not vbl.native_available():
+            self.skipTest("VBL_CLI not set or libvbl_python not built")
+        with tempfile.TemporaryDirectory() as tmp:
+            data = scene_dict()
+            data["media"][0]["vdb"] = BOX
+            data["lights"][0]["group"] = "key"
+            path = os.path.join(tmp, "scene.json")
+            with open(path, "w") as f:
+                json.dump(data, f)
+            subprocess.run([cli, "render", path, "-o", os.path.join(tmp, "cli.exr"), "--threads", "2", "--passes", "1",
+                            "--transparent", "on", "--light-groups", "on", "--output-space", "ACEScg",
+                            "--aov", "variance", "--half-layers", "volume_direct,lightgroup_key", "--quiet"],
+                           check=True, stdout=subprocess.DEVNULL)
+            with vbl.Scene(path) as scene:
+                film = vbl.render(scene, threads=2, passes=1, transparent=1, light_groups=1)
+                film.write_exr(os.path.join(tmp, "py.exr"), aovs="variance", output_space="ACEScg",
+                               half_layers=["volume_direct", "lightgroup_key"])
+            a, b = vbl.ExrFile(os.path.join(tmp, "cli.exr")), vbl.ExrFile(os.path.join(tmp, "py.exr"))
+            self.assertIn("lightgroup_key.R", a.channel_names)
+            self.assertIn("volume_indirect.R", a.channel_names)
+            self.assertEqual(a.channel_names, b.channel_names)
+            for channel in a.channel_names:
+                numpy.testing.assert_array_equal(a.channel(channel), b.channel(channel), err_msg=channel)
+            want, have = a.attributes, b.attributes
+            self.assertEqual(sorted(want), sorted(have))
+            for name in want:
+                if name != "vbl:render_seconds":
+                    self.assertEqual(want[name], have[name], name)
+            self.assertEqual(have["vbl:transparent"], 1)
+            self.assertIn("worldToCamera", have)
+            self.assertIn("worldToNDC", have)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 #include "vbl_color.h"
-#include "py_exr_convert.h"
+#include "py_color_config.h"
 #include "vbl_python_native.h"
 
 struct vbl_py_color {

@@ -5,7 +5,7 @@
  *  - colour-managed scene loading through the OCIO adapter (color/, vbl_color.h): a
  *    vbl_scene_load_options.convert_color callback;
  *  - writing a film as the multi-layer EXR `vbl render` writes, with the same header
- *    attributes (plugins/exr, vbl_exr.h).
+ *    attributes, through the CLI's own writer (plugins/render_exr, vbl_render_exr.h).
  * Linked against the shared libvbl, with the EXR writer and the OCIO adapter inside. Every call
  * reports errors through libvbl's channel (vbl_last_error_message). */
 #ifndef VBL_PYTHON_NATIVE_H
@@ -54,7 +54,9 @@ typedef struct vbl_py_exr_options {
     int has_frame, frame;         /* vbl:frame */
     int compression;              /* vbl_exr_compression; -1: ZIP (the CLI's default) */
     int half_all;                 /* every colour layer as HALF */
-    const char* half_layers;      /* comma-separated colour layers as HALF (beauty, emission, ..., variance) */
+    const char* half_layers;      /* comma-separated colour layers as HALF (beauty, background, ...,
+                                     volume_indirect, lightgroup_<name>, variance); another name:
+                                     VBL_ERROR_INVALID_ARGUMENT, as --half-layers */
     int aov_z, aov_samples, aov_variance; /* write these AOVs when the film has them */
     const vbl_py_color* color;    /* NULL: open the default config (as `vbl render` without --config) */
     const char* output_space;     /* NULL: scene_linear; else a linear colour space or role of the config

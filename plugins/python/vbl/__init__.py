@@ -25,7 +25,7 @@ from ._options import RENDER_OPTION_FIELDS, RENDER_OPTIONS
 from .errors import (CorruptFile, FileIOError, FileNotFound, GridError, GridNotFound, InvalidArgument, OutOfMemory,
                      RenderInterrupted, SceneError, Unsupported, VblError)
 from .exr import ExrFile
-from .film import AOV_LAYERS, TRANSPORT_LAYERS, Film
+from .film import AOV_LAYERS, LIGHT_GROUP_PREFIX, TOTAL_LAYERS, TRANSPORT_LAYERS, Film
 from .rendering import merge, render, resume
 from .scene import ColorConfig, Scene, default_color_config
 from .volume import TransmittanceResult, Volume
@@ -35,7 +35,7 @@ from .errors import decode as _decode
 __all__ = ["VblError", "FileNotFound", "FileIOError", "InvalidArgument", "SceneError", "CorruptFile", "GridError",
            "GridNotFound", "OutOfMemory", "Unsupported", "RenderInterrupted",
            "version", "library_path", "native_available", "Scene", "ColorConfig", "default_color_config", "Volume",
-           "Film", "ExrFile", "render", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TransmittanceResult",
+           "Film", "ExrFile", "render", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TOTAL_LAYERS", "LIGHT_GROUP_PREFIX", "TransmittanceResult",
            "RENDER_OPTION_FIELDS", "RENDER_OPTIONS", "STRUCT_SIZES"]
 
 

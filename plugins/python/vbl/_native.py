@@ -122,7 +122,11 @@ class _SceneLoadOptions(ctypes.Structure):
                 ("convert_color", ctypes.c_void_p),
                 ("convert_color_user", ctypes.c_void_p),
                 ("frame", ctypes.c_int),
-                ("use_frame", ctypes.c_int)]
+                ("use_frame", ctypes.c_int),
+                # shot overrides: a camera name or camera JSON file, an image size (> 0)
+                ("camera", ctypes.c_char_p),
+                ("width", ctypes.c_int),
+                ("height", ctypes.c_int)]
 
 
 class _RenderProgress(ctypes.Structure):
@@ -166,7 +170,8 @@ class _FilmStats(ctypes.Structure):
                 ("cancelled", ctypes.c_int),
                 ("time_limited", ctypes.c_int),
                 ("first_pass", ctypes.c_int),
-                ("discarded_pass", ctypes.c_int)]
+                ("discarded_pass", ctypes.c_int),
+                ("transparent", ctypes.c_int)]
 
 
 # Sizes of the mirrored structs (tests compare them with sizeof in C).

@@ -11,6 +11,10 @@ from .errors import Unsupported, argument_error, check, decode
 
 # The AOV layers (not light transport): depth, camera samples per pixel, variance of the mean.
 AOV_LAYERS = ("Z", "samples", "variance")
+# Colour layers that are sums of transport layers (VBL_FILM_TOTAL_*): not added to the beauty again.
+TOTAL_LAYERS = ("volume_indirect", "surface_indirect")
+# Prefix of a light group's layer ("lightgroup_<name>": that group's share of the beauty).
+LIGHT_GROUP_PREFIX = "lightgroup_"
 
 
 def _transport_names():
@@ -30,8 +34,10 @@ _COMPRESSION = {"none": 0, "zip": 1, "piz": 2, "dwaa": 3}
 
 class Film(Handle):
     """The result of a render. `beauty`, `layer(name)`: copies as numpy float32 (H, W, C), row 0 at
-    the top. `layers`: the transport layers present (they sum to the beauty's RGB); `aovs`: the
-    other layers (Z, samples, variance). A context manager; close() frees it."""
+    the top. `layers`: the transport layers present (they sum to the beauty's RGB); `totals`: the
+    sums of transport layers (volume_indirect, surface_indirect); `light_groups`: the
+    lightgroup_<name> layers; `aovs`: the non-colour layers (Z, samples, variance). A context
+    manager; close() frees it."""
 
     _release = staticmethod(lambda handle: N._film_release(handle))
 
@@ -59,15 +65,31 @@ class Film(Handle):
 
     @property
     def layers(self):
-        """The light-transport layers present (emission, volume_direct, ...: vbl.TRANSPORT_LAYERS,
-        the classes that sum to the beauty), in film order."""
+        """The light-transport layers present (background, volume_direct, ...: vbl.TRANSPORT_LAYERS,
+        the classes that sum to the beauty's RGB), in film order. A transparent render
+        (stats["transparent"]) leaves `background` out of the beauty: the others sum to it."""
         return [name for name in self.layer_names if name in TRANSPORT_LAYERS]
 
     @property
+    def totals(self):
+        """The total layers present: sums of transport layers (vbl.TOTAL_LAYERS: volume_indirect =
+        volume_from_surface + volume_from_volume, surface_indirect likewise), in film order. Colour
+        layers, not in `layers` (adding them would count those classes twice)."""
+        return [name for name in self.layer_names if name in TOTAL_LAYERS]
+
+    @property
+    def light_groups(self):
+        """The light-group layers present ("lightgroup_<name>", the scene's lights[].group): each a
+        group's share of the beauty; colour layers, in film order, not in `layers`."""
+        return [name for name in self.layer_names if name.startswith(LIGHT_GROUP_PREFIX)]
+
+    @property
     def aovs(self):
-        """The other layers present besides the beauty: "Z", "samples", "variance" (vbl.AOV_LAYERS)
-        and any derived layer a newer library adds."""
-        return [name for name in self.layer_names if name and name not in TRANSPORT_LAYERS]
+        """The non-colour layers present: "Z", "samples", "variance" (vbl.AOV_LAYERS) and any
+        derived layer a newer library adds (not the beauty, `layers`, `totals` or `light_groups`)."""
+        return [name for name in self.layer_names
+                if name and name not in TRANSPORT_LAYERS and name not in TOTAL_LAYERS
+                and not name.startswith(LIGHT_GROUP_PREFIX)]
 
     def channels(self, name):
         """Channel names of a layer: "R", "G", "B"[, "A"], or "Z" / "Y"."""
@@ -97,7 +119,7 @@ class Film(Handle):
     @property
     def stats(self):
         """vbl_film_stats as a dict: method (name), passes, spp, light_paths, seed, threads,
-        render_seconds, cancelled, time_limited, first_pass, discarded_pass."""
+        render_seconds, cancelled, time_limited, first_pass, discarded_pass, transparent."""
         stats = N._FilmStats()
         stats.size = ctypes.sizeof(N._FilmStats)
         check(N._film_get_stats(self.handle, ctypes.byref(stats)))

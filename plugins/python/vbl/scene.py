@@ -11,7 +11,7 @@ import weakref
 from . import _native as N
 from ._handle import Handle
 from ._options import Options, encode
-from .errors import Unsupported, check, decode
+from .errors import Unsupported, argument_error, check, decode
 
 # Keys of a scene that hold file paths (made absolute by Scene.from_dict).
 _PATH_KEYS = (("media", "vdb"), ("media", "emission", "vdb"), ("media", "temperature", "vdb"), ("surfaces", "mesh"))
@@ -60,14 +60,17 @@ class Scene(Handle):
 
     `vdb_overrides`: list replacing media[i].vdb (None keeps the scene's path). `frame`: the frame
     number for VDB sequence patterns ("smoke.####.vdb", "%04d") in media[i].vdb and the
-    overrides; None: a pattern fails the load. `color_config`: the scene's `color_space` colours
+    overrides; None: a pattern fails the load. `camera`: the name of an entry of the scene's
+    "cameras", or a JSON file holding a camera (`vbl render --camera`); `width`, `height`: the
+    image size instead of the camera's resolution (`--resolution WxH`; both or neither). `color_config`: the scene's `color_space` colours
     are converted to scene_linear through this ColorConfig (default: the one `vbl render` uses);
     False loads without colour management (a scene naming a color_space then fails to load).
     A missing file raises vbl.FileNotFound, a malformed one vbl.SceneError (a ValueError)."""
 
     _release = staticmethod(lambda handle: N._scene_release(handle))
 
-    def __init__(self, path, vdb_overrides=None, frame=None, color_config=None):
+    def __init__(self, path, vdb_overrides=None, frame=None, color_config=None, camera=None, width=None,
+                 height=None):
         self._handle = None
         self._temporary = None
         self.frame = frame
@@ -79,6 +82,15 @@ class Scene(Handle):
         if frame is not None:
             options.frame = int(frame)
             options.use_frame = 1
+        if (width is None) != (height is None):
+            raise argument_error("Scene: give both width and height, or neither")
+        if width is not None:
+            if int(width) < 1 or int(height) < 1:
+                raise argument_error("Scene: width and height must be >= 1 (got %r, %r)" % (width, height))
+            options.width, options.height = int(width), int(height)
+        if camera is not None:
+            camera = encode(os.fspath(camera))
+            options.camera = camera
         if color_config is None and N._native is not None:
             color_config = default_color_config()
         self.color_config = color_config or None
