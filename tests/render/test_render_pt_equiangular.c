@@ -259,7 +259,7 @@ static void test_scene_file_option(void** state)
 #define CAMERA "\"camera\": {\"position\": [0, -4, 0], \"look_at\": [0, 0, 0], \"fov_deg\": 40, \"resolution\": [4, 4]}"
     const char* texts[3] = {"{" CAMERA ", \"render\": {\"pt\": {\"equiangular\": false}}}",
                             "{" CAMERA ", \"render\": {\"pt\": {\"equiangular\": true}}}", "{" CAMERA "}"};
-    const int want[3] = {0, 1, 0};
+    const int want[3] = {0, 1, 1}; /* absent: the default, on */
     for (int i = 0; i < 3; ++i) {
         rt_write_file(dir, "pt.json", texts[i], path);
         vbl_scene* scene = NULL;
