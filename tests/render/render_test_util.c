@@ -28,6 +28,20 @@ void rt_write_file(const char* dir, const char* name, const char* text, char* ou
     fclose(f);
 }
 
+vbl_result rt_load_lit_box_scene(const char* dir, int w, int h, double density_scale, vbl_scene** scene)
+{
+    char path[512], text[8192];
+    const char* fixtures = getenv("VBL_FIXTURE_DIR");
+    snprintf(text, sizeof text,
+             "{\"camera\": {\"position\": [0.75, -3, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40, "
+             "\"resolution\": [%d, %d]}, "
+             "\"lights\": [{\"type\": \"distant\", \"direction\": [0, 0, -1], \"irradiance\": [1, 1, 1]}], "
+             "\"media\": [{\"vdb\": \"%s/box.vdb\", \"albedo\": [0.8, 0.8, 0.8], \"density_scale\": %.17g}]}",
+             w, h, fixtures ? fixtures : "tests/fixtures", density_scale);
+    rt_write_file(dir, "scene.json", text, path);
+    return vbl_scene_load(path, scene);
+}
+
 void rt_remove_dir(const char* dir)
 {
     DIR* d = opendir(dir);

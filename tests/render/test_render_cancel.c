@@ -47,19 +47,9 @@ static char g_dir[256];
 static int setup(void** state)
 {
     (void)state;
-    char path[512], text[8192];
     rt_make_temp_dir(g_dir);
-    /* a medium and a light, so the film has the volume_direct and volume_from_volume layers the test
-     * estimator writes (a scene without them has only a beauty of 0) */
-    const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    snprintf(text, sizeof text,
-             "{\"camera\": {\"position\": [0.75, -3, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40, "
-             "\"resolution\": [%d, %d]}, "
-             "\"lights\": [{\"type\": \"distant\", \"direction\": [0, 0, -1], \"irradiance\": [1, 1, 1]}], "
-             "\"media\": [{\"vdb\": \"%s/box.vdb\", \"albedo\": [0.8, 0.8, 0.8]}]}",
-             W, H, fixtures ? fixtures : "tests/fixtures");
-    rt_write_file(g_dir, "scene.json", text, path);
-    return vbl_scene_load(path, &g_scene) == VBL_SUCCESS ? 0 : -1;
+    /* a medium and a light, so the film has the layers the test estimators write */
+    return rt_load_lit_box_scene(g_dir, W, H, 1, &g_scene) == VBL_SUCCESS ? 0 : -1;
 }
 
 static int teardown(void** state)
