@@ -97,10 +97,11 @@ def main():
     check(os.path.exists(exported) and os.path.exists(os.path.join(tmp, "addon.exr")), "the add-on exported and rendered")
     with open(exported) as f:
         data = json.load(f)
-    fov = data["camera"]["fov_deg"]
-    want_fov = math.degrees(2 * math.atan(18.0 / 30.0 * HEIGHT / WIDTH))
-    check(abs(fov - want_fov) < 1e-9 and data["camera"]["resolution"] == [WIDTH, HEIGHT],
-          "camera: vertical fov %.6f deg = 2 atan(36/2/30 * H/W), resolution %s" % (fov, data["camera"]["resolution"]))
+    cam = data["camera"]
+    lens = (cam.get("focal_length"), cam.get("sensor_width"), cam.get("sensor_fit"), "fov_deg" in cam)
+    check(lens == (30.0, 36.0, "auto", False) and cam["resolution"] == [WIDTH, HEIGHT],
+          "camera: focal_length, sensor_width, sensor_fit = %s (Blender's 30 mm, 36 mm, AUTO), resolution %s"
+          % (lens[:3], cam["resolution"]))
     point = [light for light in data["lights"] if light["type"] == "point"][0]
     check(abs(point["intensity"][0] - 400.0 / (4 * math.pi)) < 1e-9, "point: I = P / (4 pi)")
     cli = os.path.join(tmp, "cli.exr")

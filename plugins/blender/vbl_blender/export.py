@@ -2,8 +2,9 @@
 
 Units follow the conventions measured between vbl scenes and Blender/Cycles in the Cycles
 reference kit (../shared/tools/cycles-reference/README.md, "Conventions"):
-- camera: pinhole; Blender looks along its local -Z with +Y up; lens/sensor/fit give the vertical
-  field of view vbl takes (fov_deg);
+- camera: pinhole; Blender looks along its local -Z with +Y up; lens, sensor width/height and
+  sensor fit go out as the scene's focal_length, sensor_width/height and sensor_fit (so a
+  --resolution override re-fits the lens as Blender would);
 - sun: Strength is irradiance E [W/m^2] (vbl `distant`, travelling along the sun's local -Z);
 - point: Power P [W] = 4 pi I (vbl `point`, intensity I [W/sr]); spot: the same intensity on the
   axis, cone half-angle spot_size / 2 and a smoothstep blend over
@@ -47,18 +48,8 @@ def _resolution(scene):
             max(1, int(round(r.resolution_y * r.resolution_percentage / 100.0))))
 
 
-def vertical_fov(camera_data, width, height):
-    """Blender's lens, sensor and sensor_fit -> the vertical field of view in radians."""
-    fit = camera_data.sensor_fit
-    if fit == "AUTO":
-        fit = "HORIZONTAL" if width >= height else "VERTICAL"
-        sensor = camera_data.sensor_width
-    else:
-        sensor = camera_data.sensor_width if fit == "HORIZONTAL" else camera_data.sensor_height
-    half = sensor / (2.0 * camera_data.lens)
-    if fit == "HORIZONTAL":
-        half *= height / float(width)
-    return 2.0 * math.atan(half)
+# Blender's Sensor Fit -> the scene's sensor_fit (the same rules: docs/readme/render.md, "Camera")
+_SENSOR_FIT = {"AUTO": "auto", "HORIZONTAL": "horizontal", "VERTICAL": "vertical"}
 
 
 def export_camera(scene, warnings):
@@ -80,7 +71,8 @@ def export_camera(scene, warnings):
     forward = -(m.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized()
     up = (m.to_3x3() @ Vector((0.0, 1.0, 0.0))).normalized()
     return {"position": list(position), "look_at": list(position + forward), "up": list(up),
-            "fov_deg": math.degrees(vertical_fov(cam, width, height)), "resolution": [width, height]}
+            "focal_length": cam.lens, "sensor_width": cam.sensor_width, "sensor_height": cam.sensor_height,
+            "sensor_fit": _SENSOR_FIT[cam.sensor_fit], "resolution": [width, height]}
 
 
 def export_light(obj, warnings):
