@@ -143,6 +143,25 @@ def main():
           "the floor exported as an OBJ with a lambert material")
     compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
                         64 * SCALE, 7, TOLERANCE, CENTROID_TOLERANCE)
+    # 4. light groups: Blender's Object > Light Group -> the light's "group" and a lightgroup_<name>
+    #    render pass holding vbl's layer of that name
+    scene.view_layers[0].lightgroups.add(name="key")
+    lit = [obj for obj in scene.objects if obj.type == "LIGHT"]
+    lit[0].lightgroup = "key"
+    scene.render.engine = "VBL"
+    settings.exr_path = os.path.join(tmp, "groups.exr")
+    settings.scene_path = os.path.join(tmp, "groups.json")
+    render_to(scene, os.path.join(tmp, "blender_groups.exr"), "OPEN_EXR_MULTILAYER")
+    with open(settings.scene_path) as f:
+        data = json.load(f)
+    grouped = [light.get("group") for light in data["lights"]]
+    check(data.get("render", {}).get("light_groups") is True and "key" in grouped,
+          "light groups exported (render.light_groups, groups %s)" % grouped)
+    film, shown = vbl.ExrFile(settings.exr_path), vbl.ExrFile(os.path.join(tmp, "blender_groups.exr"))
+    have = [c for c in shown.channel_names if "lightgroup_key" in c]
+    check(len(have) == 3 and all(numpy.array_equal(shown.channel("ViewLayer.lightgroup_key." + c),
+                                                   film.channel("lightgroup_key." + c)) for c in "RGB"),
+          "the lightgroup_key pass = vbl's lightgroup_key layer (channels %s)" % have)
     vbl_blender.unregister()
     engines = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
     check(not hasattr(bpy.types.Scene, "vbl") and "VBL" not in engines,

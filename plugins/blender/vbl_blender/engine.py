@@ -64,6 +64,8 @@ class VblRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
         for pass_name, channels, ids, kind in AOV_PASSES.values():
             self.register_pass(scene, renderlayer, pass_name, channels, ids, kind)
+        for group in getattr(renderlayer, "lightgroups", ()):  # vbl's lightgroup_<name> layers
+            self.register_pass(scene, renderlayer, "lightgroup_" + group.name, 3, "RGB", "COLOR")
 
     def render(self, depsgraph):
         scene = depsgraph.scene
@@ -140,6 +142,10 @@ class VblRenderEngine(bpy.types.RenderEngine):
         # Blender's rows run bottom to top; the film's top to bottom
         layer.passes["Combined"].rect = film.beauty[::-1].reshape(-1, 4)
         for name in film.layers:
+            render_pass = layer.passes.get(name)
+            if render_pass is not None:
+                render_pass.rect = film.layer(name)[::-1].reshape(-1, 3)
+        for name in film.light_groups:
             render_pass = layer.passes.get(name)
             if render_pass is not None:
                 render_pass.rect = film.layer(name)[::-1].reshape(-1, 3)

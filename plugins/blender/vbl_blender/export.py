@@ -322,6 +322,8 @@ def export_scene(scene, folder, depsgraph=None, render=None):
         if obj.type == "LIGHT":
             light = export_light(obj, warnings)
             if light:
+                if getattr(obj, "lightgroup", ""):  # Blender 3.2+: Object > Shading > Light Group
+                    light["group"] = obj.lightgroup
                 out["lights"].append(light)
         elif obj.type == "VOLUME":
             out["media"].append(export_volume_object(obj, scene, warnings))
@@ -350,10 +352,14 @@ def export_scene(scene, folder, depsgraph=None, render=None):
             color = _rgb(background.inputs["Color"].default_value, strength)
             if max(color) > 0.0:
                 out["lights"].append({"type": "environment", "radiance": color})
+                if getattr(world, "lightgroup", ""):
+                    out["lights"][-1]["group"] = world.lightgroup
     if not out["surfaces"]:
         del out["surfaces"]
     if len(out["media"]) > 8 or len(out["lights"]) > 64:
         raise ExportError("vbl takes at most 8 media and 64 lights (%d, %d)" % (len(out["media"]), len(out["lights"])))
     if render:
         out["render"] = dict(render)
+    if any("group" in light for light in out["lights"]):  # Blender light groups -> lightgroup_<name> layers
+        out.setdefault("render", {})["light_groups"] = True
     return out, warnings
