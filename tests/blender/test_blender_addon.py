@@ -133,12 +133,7 @@ def main():
                         CENTROID_TOLERANCE)
     # 3. surfaces: a Diffuse BSDF floor mesh lit by a rectangular area light, against Cycles
     build_surface_scene()
-    scene.render.engine = "VBL"
-    settings.exr_path = os.path.join(tmp, "surfaces.exr")
-    settings.scene_path = os.path.join(tmp, "surfaces.json")
-    render_to(scene, os.path.join(tmp, "blender_surfaces.exr"), "OPEN_EXR_MULTILAYER")
-    with open(settings.scene_path) as f:
-        data = json.load(f)
+    data = render_with_vbl(scene, tmp, "surfaces")
     check(len(data.get("surfaces", [])) == 1 and data["surfaces"][0]["material"]["type"] == "lambert",
           "the floor exported as an OBJ with a lambert material")
     compare_with_cycles(scene, vbl.ExrFile(settings.exr_path).layer(""), os.path.join(tmp, "cycles_surfaces.exr"),
@@ -148,12 +143,7 @@ def main():
     scene.view_layers[0].lightgroups.add(name="key")
     lit = [obj for obj in scene.objects if obj.type == "LIGHT"]
     lit[0].lightgroup = "key"
-    scene.render.engine = "VBL"
-    settings.exr_path = os.path.join(tmp, "groups.exr")
-    settings.scene_path = os.path.join(tmp, "groups.json")
-    render_to(scene, os.path.join(tmp, "blender_groups.exr"), "OPEN_EXR_MULTILAYER")
-    with open(settings.scene_path) as f:
-        data = json.load(f)
+    data = render_with_vbl(scene, tmp, "groups")
     grouped = [light.get("group") for light in data["lights"]]
     check(data.get("render", {}).get("light_groups") is True and "key" in grouped,
           "light groups exported (render.light_groups, groups %s)" % grouped)
@@ -168,6 +158,18 @@ def main():
           "the add-on unregisters cleanly")
     shutil.rmtree(tmp, ignore_errors=True)
     finish("test_blender_addon")
+
+
+def render_with_vbl(scene, tmp, stem):
+    """Renders `scene` with the vbl engine into tmp/<stem>.exr (the add-on's EXR) and
+    tmp/blender_<stem>.exr (Blender's passes); returns the exported scene (tmp/<stem>.json)."""
+    settings = scene.vbl
+    scene.render.engine = "VBL"
+    settings.exr_path = os.path.join(tmp, stem + ".exr")
+    settings.scene_path = os.path.join(tmp, stem + ".json")
+    render_to(scene, os.path.join(tmp, "blender_%s.exr" % stem), "OPEN_EXR_MULTILAYER")
+    with open(settings.scene_path) as f:
+        return json.load(f)
 
 
 def test_cancel(scene, tmp, exported):
