@@ -56,6 +56,24 @@ vbl_result vbl_color_display_view(const vbl_color_config* config, const char* sr
  * P3-D65. VBL_ERROR_UNSUPPORTED if the space is not linear with one of those primaries. */
 vbl_result vbl_color_space_chromaticities(const vbl_color_config* config, const char* space, float out[8]);
 
+/* ---- Scene colours ---------------------------------------------------------------------- */
+
+/* Where vbl_color_convert_scene_color converts to: a config and its scene_linear space. */
+typedef struct vbl_color_scene_target {
+    const vbl_color_config* config;
+    const char* scene_space;
+} vbl_color_scene_target;
+
+/* vbl_scene_load_options.convert_color with `user` a vbl_color_scene_target: a scene colour from
+ * the scene's "color_space" into target->scene_space. Failures are VBL_ERROR_SCENE with the
+ * adapter's message (the loader prefixes the scene file, color_space and the field). */
+vbl_result vbl_color_convert_scene_color(void* user, const char* color_space, const char* field, double rgb[3]);
+
+/* A scene's "color_space" (NULL: none) must be known to `config` even when no colour needed
+ * converting: VBL_ERROR_SCENE "<scene_path>: color_space = \"X\": <why>" otherwise. */
+vbl_result vbl_color_check_scene_space(const vbl_color_config* config, const char* scene_path,
+                                       const char* color_space);
+
 /* ---- Previews ---------------------------------------------------------------------------- */
 
 typedef struct vbl_preview_options {

@@ -31,6 +31,7 @@ struct vbl_render_output {
     const char* output_space; /* the EXR's colour space */
 #ifdef VBL_RENDER_HAVE_COLOR
     vbl_color_config* config;
+    vbl_color_scene_target color_target; /* {config, scene_space}: the scene loader's colour hook */
 #endif
     /* --resume: the checkpoint merged into every file written */
     vbl_exr_image* base;
@@ -89,40 +90,13 @@ static vbl_result vbl_render_check_extension(const char* path, const char* ext, 
                             dot ? "its extension names another format" : "it has no extension");
 }
 
-#ifdef VBL_RENDER_HAVE_COLOR
-/* vbl_scene_load_options.convert_color: a scene colour from the scene's "color_space" into the
- * config's scene_linear space (the film's space) through OCIO. Failures are VBL_ERROR_SCENE (the
- * loader prefixes the scene file, `color_space` and the field). */
-static vbl_result vbl_render_convert_scene_color(void* user, const char* color_space, const char* field,
-                                                 double rgb[3])
-{
-    (void)field;
-    const vbl_render_output* o = user;
-    const char* space = NULL;
-    vbl_result r = vbl_color_resolve_space(o->config, color_space, &space);
-    float v[3] = {(float)rgb[0], (float)rgb[1], (float)rgb[2]};
-    if (!r) r = vbl_color_convert_rgb(o->config, space, o->scene_space, v);
-    if (r) {
-        char msg[2048];
-        snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
-        return vbl_report_error(VBL_ERROR_SCENE, "%s", msg);
-    }
-    for (int i = 0; i < 3; ++i) rgb[i] = v[i];
-    return VBL_SUCCESS;
-}
-#endif
 
 /* The scene's color_space must be known even when no colour needed converting. */
 vbl_result vbl_render_output_check_scene(const vbl_render_output* o, const vbl_scene* scene)
 {
 #ifdef VBL_RENDER_HAVE_COLOR
-    const char* space = vbl_scene_color_space(scene);
-    const char* resolved = NULL;
-    if (space && vbl_color_resolve_space(o->config, space, &resolved)) {
-        char msg[2048];
-        snprintf(msg, sizeof msg, "%s", vbl_last_error_message());
-        return vbl_report_error(VBL_ERROR_SCENE, "%s: color_space = \"%s\": %s", vbl_scene_path(scene), space, msg);
-    }
+    vbl_result r = vbl_color_check_scene_space(o->config, vbl_scene_path(scene), vbl_scene_color_space(scene));
+    if (r) return r;
 #else
     (void)o;
     (void)scene;
@@ -133,8 +107,8 @@ vbl_result vbl_render_output_check_scene(const vbl_render_output* o, const vbl_s
 void vbl_render_output_scene_load_options(vbl_render_output* o, vbl_scene_load_options* load)
 {
 #ifdef VBL_RENDER_HAVE_COLOR
-    load->convert_color = vbl_render_convert_scene_color;
-    load->convert_color_user = o;
+    load->convert_color = vbl_color_convert_scene_color;
+    load->convert_color_user = &o->color_target;
 #else
     (void)o;
     (void)load; /* no OCIO: a scene naming a color_space fails to load, saying why */
@@ -176,6 +150,7 @@ vbl_result vbl_render_output_create(const vbl_render_args* args, vbl_render_outp
 #ifdef VBL_RENDER_HAVE_COLOR
     if (!r) r = vbl_color_config_open(args->config, &o->config);
     if (!r) r = vbl_color_resolve_space(o->config, "scene_linear", &o->scene_space);
+    o->color_target = (vbl_color_scene_target){o->config, o->scene_space};
     if (!r) {
         o->output_space = o->scene_space;
         if (args->output_space) r = vbl_color_resolve_space(o->config, args->output_space, &o->output_space);
