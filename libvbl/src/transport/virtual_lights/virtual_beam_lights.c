@@ -247,7 +247,7 @@ static void vbl_beam_light_visit_piece(const vbl_vrl_tree_piece* pc, double weig
 {
     const vbl_beam_light_piece_visit* v = user;
     vbl_beam_light_estimate(v->ctx, v->s, v->ts, &v->s->photons.vrls[pc->vrl], pc->v0, pc->v1, v->o, v->d, v->u0, v->u1,
-                     v->cache, weight, v->rng, v->acc);
+                            v->cache, weight, v->rng, v->acc);
 }
 
 void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
