@@ -75,7 +75,7 @@ class Race:
 
     def cycles_render(self, kit_json, out, spp, seed):
         env = dict(os.environ, SCENE=kit_json)
-        cpu, wall = timed([os.path.join(KIT, "render.sh"), str(spp), out, str(seed), "--passes"], out + ".log", env)
+        cpu, wall = timed([os.path.join(KIT, "render.sh"), str(spp), out, str(seed), "--passes"], out + ".run.log", env)
         return cpu, wall
 
     def per_pass_cost(self, scene, name, method, extra=()):
@@ -192,10 +192,12 @@ class Race:
         self.ref_info = {}
         self.uptime = [open("/proc/loadavg").read().split()[:3]]
         started = time.time()
+        import report
         for name in self.a.scenes:
             self.run_scene(name)
             self.uptime.append(open("/proc/loadavg").read().split()[:3])
-        self.elapsed = time.time() - started
+            self.elapsed = time.time() - started
+            report.write(self, self.a, quiet=name != self.a.scenes[-1])  # results so far after every scene
 
 
 def main():
@@ -228,8 +230,6 @@ def main():
     a.method_args = {}
     race = Race(a)
     race.run()
-    import report
-    report.write(race, a)
 
 
 if __name__ == "__main__":
