@@ -142,6 +142,8 @@ class Race:
             cpu, wall = self.cycles_render(kit_json, cy_out, a.spp, 0)
             budget = cpu
             cy = (cy_out, cpu, wall)
+            render_wall = json.load(open(cy_out + ".json"))["render_wall_seconds"]
+            self.cycles_info[name] = dict(cpu_s=cpu, wall_s=wall, render_call_wall_s=render_wall)
             self.log(f"{name}: Cycles {cpu:.1f} CPU s, {wall:.1f} s wall")
         else:
             budget = a.budget
@@ -190,6 +192,7 @@ class Race:
 
     def run(self):
         self.ref_info = {}
+        self.cycles_info = {}
         self.uptime = [open("/proc/loadavg").read().split()[:3]]
         started = time.time()
         import report
@@ -214,7 +217,12 @@ def main():
     ap.add_argument("--check-spp", type=int, default=None, help="spp of the second Cycles render (default --spp)")
     ap.add_argument("--ref-factor", type=float, default=8.0, help="CPU of each pt reference half / budget")
     ap.add_argument("--budget", type=float, default=60.0, help="CPU seconds for scenes without a Cycles race")
+    ap.add_argument("--report-from", default=None, help="rewrite the tables and plot from a run's STEM.json, rendering nothing")
     a = ap.parse_args()
+    if a.report_from:
+        import report
+        report.rewrite(a.report_from, a.plot)
+        return
     if a.quick:
         a.spp = min(a.spp, 16)
         a.ref_factor = min(a.ref_factor, 2.0)

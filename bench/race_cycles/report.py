@@ -1,5 +1,7 @@
 """Tables, CSV and plot of the Cycles race (bench/race_cycles/race.py)."""
+import argparse
 import csv
+import json
 import math
 import os
 import platform
@@ -148,13 +150,43 @@ def plot(race, path):
     fig.savefig(path, dpi=90)
 
 
+def cycles_times(race):
+    out = ["## Cycles' time (the budget): whole process vs the render call", "",
+           "Whole process: Blender start, scene set-up, VDB load, BVH, path tracing, EXR and pass split. Render call: "
+           "bpy.ops.render.render alone (wall).", "",
+           "| scene | CPU s (budget) | process wall s | render call wall s |", "|---|---:|---:|---:|"]
+    for scene, c in getattr(race, "cycles_info", {}).items():
+        out.append(f"| {scene} | {c['cpu_s']:.1f} | {c['wall_s']:.1f} | {c['render_call_wall_s']:.1f} |")
+    return out
+
+
+class _Saved:
+    """A race read back from its STEM.json (report.rewrite)."""
+    def __init__(self, d):
+        self.rows, self.checks, self.uptime, self.elapsed = d["rows"], d["checks"], d["uptime"], d["elapsed"]
+        self.cycles_info = d.get("cycles_info", {})
+        self.a = argparse.Namespace(**d["args"])
+
+
+def rewrite(path, plot_path):
+    d = json.load(open(path))
+    race = _Saved(d)
+    race.a.out = path[:-5]
+    race.a.plot = plot_path if race.a.plot else None
+    write(race, race.a)
+
+
 def write(race, a, quiet=False):
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    keep = ("quick", "spp", "check_spp", "ref_factor", "budget", "scenes", "methods", "plot")
+    json.dump(dict(rows=race.rows, checks=race.checks, uptime=race.uptime, elapsed=race.elapsed,
+                   cycles_info=getattr(race, "cycles_info", {}), args={k: getattr(a, k) for k in keep}),
+              open(a.out + ".json", "w"), indent=0)
     with open(a.out + ".csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(race.rows[0].keys()))
         w.writeheader()
         w.writerows(race.rows)
-    text = header(race, a) + table14(race) + [""] + table13(race) + [""] + table_layers(race) + [""] + table_checks(race)
+    text = header(race, a) + table14(race) + [""] + table13(race) + [""] + table_layers(race) + [""] + table_checks(race) + [""] + cycles_times(race)
     text.append("")
     text.append("(cycles_vol_indirect in the plot and the Cycles table: volume_from_surface + volume_from_volume; "
                 "diffuse_indirect: surface_from_surface + surface_from_volume)")
