@@ -5,8 +5,9 @@ Per scene (bench/scenes/race_*.json, 128x128):
    its light passes; its whole-process CPU time (user + system of blender and its children, from
    getrusage) is the budget B. Scenes the kit cannot express (a spot light) get --budget.
 2. Each libvbl method with its defaults (2 threads) given B: a one-pass calibration run gives the
-   cost per pass, the passes are sized to B and the run repeated once with corrected passes if
-   its CPU time is off by more than 20%; what is left of the mismatch is corrected by the
+   cost per pass, the passes are sized to B and the run repeated (at most twice) with corrected
+   passes while its CPU time is off by more than 20% (a virtual-light pass's cost varies with its
+   light paths); what is left of the mismatch is corrected by the
    1/sqrt(t) law (score.equal_time_rmae) and the raw value kept in the CSV.
 3. A converged reference: two independent pt halves of --ref-factor x B each (cached under
    --work by the scene's content, the vbl binary's size and mtime and the passes); its floor is
@@ -38,14 +39,25 @@ MEDIA_ONLY_METHODS = ["pt", "vrl", "vbl", "beams"]
 SURFACE_METHODS = ["pt", "vrl", "vbl", "vpl"]
 
 
-def timed(cmd, log=None, env=None):
-    """Runs cmd, returns (CPU seconds of it and its children, wall seconds)."""
+class CpuLimit(Exception):
+    """A run went past its CPU-second cap (RLIMIT_CPU)."""
+
+
+def timed(cmd, log=None, env=None, cpu_limit=None):
+    """Runs cmd, returns (CPU seconds of it and its children, wall seconds); with cpu_limit the
+    process is stopped by RLIMIT_CPU past that many CPU seconds (CpuLimit)."""
+    def cap():
+        n = int(cpu_limit) + 1
+        resource.setrlimit(resource.RLIMIT_CPU, (n, n + 5))
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.time()
     with open(log or os.devnull, "w") as fh:
-        p = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT, env=env)
+        p = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT, env=env,
+                           preexec_fn=cap if cpu_limit else None)
     wall = time.time() - t0
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if cpu_limit and p.returncode < 0:
+        raise CpuLimit(f"{' '.join(cmd[:3])}: past {cpu_limit:.0f} CPU s")
     if p.returncode != 0:
         raise RuntimeError(f"failed ({p.returncode}): {' '.join(cmd)} (log {log})")
     return (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime), wall
@@ -64,36 +76,46 @@ class Race:
         os.makedirs(a.work, exist_ok=True)
         self.rows = []
         self.checks = []
+        self.skipped = []
 
     def log(self, msg):
         print(f"[{time.strftime('%H:%M:%S')}] {msg}", flush=True)
 
-    def vbl_render(self, scene, out, method, passes, seed, extra=()):
+    def vbl_render(self, scene, out, method, passes, seed, extra=(), cpu_limit=None):
         cmd = [self.vbl, "render", scene, "-o", out, "--vdb", self.vdb, "--method", method, "--passes",
                str(passes), "--seed", str(seed), "--threads", "2"] + list(extra)
-        return timed(cmd, out + ".log")
+        return timed(cmd, out + ".log", cpu_limit=cpu_limit)
 
     def cycles_render(self, kit_json, out, spp, seed):
         env = dict(os.environ, SCENE=kit_json)
         cpu, wall = timed([os.path.join(KIT, "render.sh"), str(spp), out, str(seed), "--passes"], out + ".run.log", env)
         return cpu, wall
 
-    def per_pass_cost(self, scene, name, method, extra=()):
+    def per_pass_cost(self, scene, name, method, extra=(), cpu_limit=None):
         out = os.path.join(self.a.work, f"{name}_{method}_calib.exr")
-        cpu, _ = self.vbl_render(scene, out, method, 1, 7, extra)
+        cpu, _ = self.vbl_render(scene, out, method, 1, 7, extra, cpu_limit)
         return cpu
 
     def method_at_budget(self, scene, name, method, budget, seed=11):
+        """(EXR, CPU s, wall s, passes), or None where one pass costs more than CAP x the budget."""
         extra = self.a.method_args.get(method, [])
-        c1 = self.per_pass_cost(scene, name, method, extra)
+        cap = self.a.pass_cap * budget
+        try:
+            c1 = self.per_pass_cost(scene, name, method, extra, cap)
+        except CpuLimit:
+            self.skipped.append(dict(scene=name, method=method, note=f"one pass > {cap:.0f} CPU s ({self.a.pass_cap:g}x the budget)"))
+            return None
         passes = max(1, int(round(budget / c1)))
         out = os.path.join(self.a.work, f"{name}_{method}.exr")
-        for attempt in range(2):
+        tried = set()
+        for attempt in range(3):
             cpu, wall = self.vbl_render(scene, out, method, passes, seed, extra)
+            tried.add(passes)
             ratio = cpu / budget
-            if abs(ratio - 1) <= 0.2 or attempt == 1:
+            nxt = max(1, int(round(passes / ratio)))
+            if abs(ratio - 1) <= 0.2 or attempt == 2 or nxt in tried:
                 break
-            passes = max(1, int(round(passes / ratio)))
+            passes = nxt
         return out, cpu, wall, passes
 
     def reference(self, scene, name, cost_per_pass, budget):
@@ -149,7 +171,11 @@ class Race:
             budget = a.budget
         for i, m in enumerate(methods):
             self.log(f"{name}: {m} at {budget:.1f} CPU s")
-            results[m] = self.method_at_budget(scene, name, m, budget)
+            res = self.method_at_budget(scene, name, m, budget)
+            if res is None:
+                self.log(f"{name}: {m} skipped: {self.skipped[-1]['note']}")
+                continue
+            results[m] = res
             self.log(f"{name}: {m} {results[m][3]} passes, {results[m][1]:.1f} CPU s, {results[m][2]:.1f} s wall")
             if kit is not None and i == len(methods) // 2:  # interleave the second Cycles render
                 self.log(f"{name}: Cycles {a.check_spp} spp (seed 1) for the mean check")
@@ -217,6 +243,8 @@ def main():
     ap.add_argument("--check-spp", type=int, default=None, help="spp of the second Cycles render (default --spp)")
     ap.add_argument("--ref-factor", type=float, default=8.0, help="CPU of each pt reference half / budget")
     ap.add_argument("--budget", type=float, default=60.0, help="CPU seconds for scenes without a Cycles race")
+    ap.add_argument("--pass-cap", type=float, default=4.0,
+                    help="skip a method whose one-pass calibration takes more than this x the budget (CPU)")
     ap.add_argument("--report-from", default=None, help="rewrite the tables and plot from a run's STEM.json, rendering nothing")
     a = ap.parse_args()
     if a.report_from:

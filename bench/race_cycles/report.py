@@ -157,6 +157,10 @@ def cycles_times(race):
            "| scene | CPU s (budget) | process wall s | render call wall s |", "|---|---:|---:|---:|"]
     for scene, c in getattr(race, "cycles_info", {}).items():
         out.append(f"| {scene} | {c['cpu_s']:.1f} | {c['wall_s']:.1f} | {c['render_call_wall_s']:.1f} |")
+    skipped = getattr(race, "skipped", [])
+    if skipped:
+        out += ["", "Not raced (the calibration pass was stopped): " +
+                "; ".join(f"{k['scene']} {k['method']}: {k['note']}" for k in skipped)]
     return out
 
 
@@ -165,6 +169,7 @@ class _Saved:
     def __init__(self, d):
         self.rows, self.checks, self.uptime, self.elapsed = d["rows"], d["checks"], d["uptime"], d["elapsed"]
         self.cycles_info = d.get("cycles_info", {})
+        self.skipped = d.get("skipped", [])
         self.a = argparse.Namespace(**d["args"])
 
 
@@ -180,7 +185,7 @@ def write(race, a, quiet=False):
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     keep = ("quick", "spp", "check_spp", "ref_factor", "budget", "scenes", "methods", "plot")
     json.dump(dict(rows=race.rows, checks=race.checks, uptime=race.uptime, elapsed=race.elapsed,
-                   cycles_info=getattr(race, "cycles_info", {}), args={k: getattr(a, k) for k in keep}),
+                   cycles_info=getattr(race, "cycles_info", {}), skipped=getattr(race, "skipped", []), args={k: getattr(a, k) for k in keep}),
               open(a.out + ".json", "w"), indent=0)
     with open(a.out + ".csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(race.rows[0].keys()))
