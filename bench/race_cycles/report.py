@@ -119,6 +119,10 @@ def header(race, a):
             f"- wall time of the whole run: {race.elapsed:.0f} s", ""]
 
 
+COLORS = {"cycles": "tab:blue", "pt": "tab:orange", "vrl": "tab:green", "vbl": "tab:red", "vpl": "tab:brown",
+          "beams": "tab:purple"}
+
+
 def plot(race, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -139,14 +143,15 @@ def plot(race, path):
                     name = "volume_indirect"
                 r = _one(race, scene=scene, method=m, layers=kind, layer=name)
                 vals.append(r["rmae_at_budget"] if r else float("nan"))
-            ax.bar([j + i * width for j in range(len(layers))], vals, width, label=m)
+            ax.bar([j + i * width for j in range(len(layers))], vals, width, label=m, color=COLORS.get(m, "grey"))
         ax.set_xticks([j + 0.4 - width / 2 for j in range(len(layers))])
         ax.set_xticklabels([l.replace("volume_", "vol_").replace("surface_", "surf_") for l in layers], rotation=30, fontsize=7)
         ax.set_yscale("log")
         ax.set_title(scene, fontsize=9)
     axes[0][0].set_ylabel("rMAE at Cycles' CPU time")
-    axes[0][-1].legend(fontsize=7)
-    fig.tight_layout()
+    from matplotlib.patches import Patch
+    fig.legend(handles=[Patch(color=c, label=m) for m, c in COLORS.items()], loc="upper right", fontsize=7, ncol=6)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
     fig.savefig(path, dpi=90)
 
 
