@@ -234,3 +234,49 @@ double vbl_vsl_kernel(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l,
     /* (1 / (pi R^2)) * Omega * (sum / n) = geometry * sum / n */
     return cone.geometry * sum / n;
 }
+
+/* ---- thin-cone shortcut (beam_light_pair.h) ---- */
+
+double vbl_vsl_lobe_slope_bound(double g)
+{
+    double a = fabs(g);
+    return a < 1.0 ? 3.0 * a / ((1.0 - a) * (1.0 + a)) : INFINITY;
+}
+
+double vbl_vsl_lobe_curvature_bound(double g)
+{
+    double a = fabs(g);
+    return a < 1.0 ? 4.5 * a / ((1.0 - a) * (1.0 - a)) : INFINITY;
+}
+
+double vbl_vsl_midpoint_error_bound(double alpha, double b1, double b2)
+{
+    double delta = alpha * b1 + 0.5 * alpha * alpha * b2;
+    return 0.5 * b2 * alpha * alpha + 0.5 * delta * delta * exp(delta);
+}
+
+double vbl_vsl_thin_cone_sin(double g_max, double tolerance)
+{
+    if (!(tolerance > 0.0) || !(fabs(g_max) < 1.0)) return 0.0;
+    const double b1 = 2.0 * vbl_vsl_lobe_slope_bound(g_max), b2 = 2.0 * vbl_vsl_lobe_curvature_bound(g_max);
+    double lo = 0.0, hi = 0.5 * VBL_PI;
+    if (vbl_vsl_midpoint_error_bound(hi, b1, b2) <= tolerance) return 1.0;
+    for (int i = 0; i < 60; ++i) {
+        double mid = 0.5 * (lo + hi);
+        if (vbl_vsl_midpoint_error_bound(mid, b1, b2) <= tolerance) lo = mid;
+        else hi = mid;
+    }
+    return sin(lo);
+}
+
+double vbl_vsl_kernel_adaptive(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l, vbl_vec3 l_d, double g_light,
+                               double radius, int n, double jitter1, double jitter2, double thin_sin)
+{
+    vbl_vec3 mc = vbl_v3_scale(c_d, -1.0);
+    vbl_vsl_cone cone;
+    if (!vbl_vsl_cone_init(&cone, vbl_v3_sub(x_c, x_l), radius, mc)) return 0.0;
+    if (cone.radius <= thin_sin * cone.w) /* midpoint (R == 0: the VRL integrand, geometry 1 / w^2) */
+        return vbl_hg_eval(g_light, vbl_v3_dot(l_d, cone.axis)) * vbl_hg_eval(g_camera, vbl_v3_dot(mc, cone.axis)) *
+               cone.geometry;
+    return vbl_vsl_kernel(x_c, c_d, g_camera, x_l, l_d, g_light, radius, n, jitter1, jitter2);
+}
