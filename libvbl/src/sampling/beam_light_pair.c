@@ -251,8 +251,28 @@ double vbl_vsl_lobe_curvature_bound(double g)
 
 double vbl_vsl_midpoint_error_bound(double alpha, double b1, double b2)
 {
-    double delta = alpha * b1 + 0.5 * alpha * alpha * b2;
-    return 0.5 * b2 * alpha * alpha + 0.5 * delta * delta * exp(delta);
+    return 0.5 * alpha * alpha * (b2 + b1 * b1) * exp(alpha * b1);
+}
+
+void vbl_vsl_lobe_local_bounds(double g, double c, double sin_a, double cos_a, double* b1, double* b2)
+{
+    const double a = fabs(g);
+    *b1 = *b2 = 0.0;
+    if (a == 0.0) return;
+    if (!(a < 1.0)) {
+        *b1 = *b2 = INFINITY;
+        return;
+    }
+    double cp = vbl_clamp(g > 0.0 ? c : -c, -1.0, 1.0), sp = sqrt(fmax(0.0, 1.0 - cp * cp));
+    /* x = 1 - cos of the angle to the lobe's peak over the cone: [x0, x1] */
+    double x0 = cp >= cos_a ? 0.0 : fmax(0.0, 1.0 - (cp * cos_a + sp * sin_a) - 1e-12);
+    double cu = cp * cos_a - sp * sin_a; /* cos(theta + alpha) while theta + alpha <= pi */
+    double x1 = (sp * cos_a + cp * sin_a) < 0.0 ? 2.0 : fmin(2.0, 1.0 - cu + 1e-12);
+    const double om = (1.0 - a) * (1.0 - a);
+    double xs = vbl_clamp(om / (2.0 * a), x0, x1); /* the peak of sqrt(2x) / q and of 2x / q^2 */
+    double qs = om + 2.0 * a * xs, q0 = om + 2.0 * a * x0;
+    *b1 = fmin(3.0 * a * sqrt(2.0 * xs) / qs, vbl_vsl_lobe_slope_bound(g)); /* sqrt(2x) >= sqrt(1 - c^2) */
+    *b2 = 6.0 * a * a * 2.0 * xs / (qs * qs) + 3.0 * a / q0;
 }
 
 double vbl_vsl_thin_cone_sin(double g_max, double tolerance)

@@ -89,22 +89,30 @@ double vbl_vsl_kernel(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l,
 /* ---- The thin-cone shortcut of K_R (issue 13 item 4) ----
  * For a cone of half-angle alpha about the axis a = (x_c - x_l) / w, K_R = geometry x the mean of
  * F = f_l f_c over the cone (uniform), and the midpoint value geometry x F(a) is the VRL kernel
- * with the BRE's softened geometry (sampling/vsl_cone.h). With h = ln F along a unit-speed
- * geodesic from a (angle theta <= alpha): h(theta) = h(0) + theta h'(0) + theta^2 h''(xi) / 2; the
- * linear term averages to 0 over the cone's azimuth, so
- *   |mean F / F(a) - 1| <= B2 alpha^2 / 2 + delta^2 e^delta / 2,  delta = alpha B1 + alpha^2 B2 / 2,
- * with B1, B2 bounds of |h'|, |h''| summed over the two lobes. For one HG lobe, c = m . omega,
- * q = 1 + g^2 - 2 g c: |d ln HG / d theta| <= 3 |g| sqrt(1 - c^2) / q <= 3 |g| / (1 - g^2) and
- * |d^2 ln HG / d theta^2| <= 6 g^2 (1 - c^2) / q^2 + 3 |g| |c| / q <= 4.5 |g| / (1 - |g|)^2
- * (q = (1 - |g|)^2 + 2 |g| (1 -+ c), 1 - c^2 <= 2 (1 -+ c)). The bound is on the exact kernel, so the
- * shortcut's relative error is below it for every geometry, and it -> 0 with R / w (bias O(R^2 / w^2),
- * the order of the VBL's own bias). */
-double vbl_vsl_lobe_slope_bound(double g);     /* 3 |g| / (1 - g^2) */
-double vbl_vsl_lobe_curvature_bound(double g); /* 4.5 |g| / (1 - |g|)^2 */
-/* The relative-error bound above for half-angle alpha and summed bounds b1, b2 (inf for |g| >= 1). */
+ * with the BRE's softened geometry (sampling/vsl_cone.h). Along a unit-speed geodesic from a
+ * (angle theta <= alpha, stays in the cone): F(theta) = F(0) + theta F'(0) + theta^2 F''(xi) / 2;
+ * the linear term averages to 0 over the cone's azimuth, |F''| <= C F and F(xi) <= F(a) e^(alpha B1), so
+ *   |mean F / F(a) - 1| <= alpha^2 / 2 x (B2 + B1^2) x e^(alpha B1),
+ * with B1 >= |(ln F)'| and B2 + B1^2 >= F'' / F in the cone. For F = A B, A and B positive mixtures
+ * of HG lobes (sum_i w_i f_i: |A'| / A <= max_i |f_i'| / f_i, A'' / A <= max_i f_i'' / f_i), B1 and B2 are
+ * the sums over the two ends of each end's largest lobe bound. One lobe, c = m . omega,
+ * q = 1 + g^2 - 2 g c, h = ln HG: h' = 3 g (m . omega') / q, h'' = 6 g^2 (m . omega')^2 / q^2 - 3 g c / q, so
+ *   |h'| <= 3 |g| sqrt(1 - c^2) / q <= 3 |g| / (1 - g^2),
+ *   |h''| <= 6 g^2 (1 - c^2) / q^2 + 3 |g| |c| / q <= (1.5 |g| + 3 |g|) / (1 - |g|)^2 (2x / q^2 <= 1 / (4 |g| (1 - |g|)^2)),
+ * and, over the cone only, with x = 1 - cos(angle to the peak sign(g) m), q = (1 - |g|)^2 + 2 |g| x,
+ * 1 - c^2 <= 2 x: sqrt(2x) / q and 2x / q^2 peak at x* = (1 - |g|)^2 / (2 |g|), so the local bounds take
+ * x* clamped to the cone's x range (vbl_vsl_lobe_local_bounds). The bound is on the exact kernel,
+ * so the shortcut's relative error is below it for every geometry, and it -> 0 like (R / w)^2, the
+ * order of the VBL's own bias. */
+double vbl_vsl_lobe_slope_bound(double g);     /* 3 |g| / (1 - g^2): |h'| anywhere */
+double vbl_vsl_lobe_curvature_bound(double g); /* 4.5 |g| / (1 - |g|)^2 >= |h''| anywhere (see above) */
+/* Local b1 >= |h'|, b2 >= |h''| of one lobe over a cone of half-angle alpha (sin_a, cos_a) whose axis
+ * has cosine c with the lobe's direction m (HG(g, m . omega)). */
+void vbl_vsl_lobe_local_bounds(double g, double c, double sin_a, double cos_a, double* b1, double* b2);
+/* The relative-error bound above for half-angle alpha and summed bounds b1, b2. */
 double vbl_vsl_midpoint_error_bound(double alpha, double b1, double b2);
-/* sin of the largest half-angle whose bound is <= tolerance (bisection), for two lobes of |g| <= g_max;
- * 0 when tolerance <= 0 (never skip) or g_max >= 1. */
+/* sin of the largest half-angle whose bound with the global lobe bounds is <= tolerance (bisection),
+ * for two lobes of |g| <= g_max; 0 when tolerance <= 0 (never skip) or g_max >= 1. */
 double vbl_vsl_thin_cone_sin(double g_max, double tolerance);
 /* K_R by the midpoint where R <= thin_sin x w (R == 0: the VRL integrand), else vbl_vsl_kernel. */
 double vbl_vsl_kernel_adaptive(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l, vbl_vec3 l_d, double g_light,

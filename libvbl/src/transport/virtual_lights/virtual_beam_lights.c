@@ -223,8 +223,9 @@ static vbl_vec3 vbl_beam_light_kernel_sum(const vbl_medium_point* mu, const vbl_
 }
 
 /* The eq (10) factor sum_ij sigma_s,i sigma_s,j K_R at one pair of points, R = R_p(x_v) (optical):
- * where R <= thin_sin w the thin-cone midpoint (the VRL kernel times the cone's geometry; relative
- * error below settings.kernel_tolerance, beam_light_pair.h), else the cone quadrature. */
+ * the thin-cone midpoint (the VRL kernel times the cone's geometry) where its error bound
+ * (beam_light_pair.h) is below settings.kernel_tolerance: at once where R <= thin_sin w (the global
+ * bound), else by the bound local to this cone and these lobes; otherwise the cone quadrature. */
 static vbl_vec3 vbl_beam_light_pair_kernel(const vbl_beam_light_store* s, const vbl_medium_point* mu,
                                            const vbl_medium_point* mv, vbl_vec3 xu, vbl_vec3 d, vbl_vec3 xv,
                                            vbl_vec3 ld, double j1, double j2)
@@ -232,9 +233,28 @@ static vbl_vec3 vbl_beam_light_pair_kernel(const vbl_beam_light_store* s, const 
     const double R = vbl_beam_light_radius_at(s, mv->sigma_t);
     vbl_vsl_cone cone;
     if (!vbl_vsl_cone_init(&cone, vbl_v3_sub(xu, xv), R, vbl_v3_scale(d, -1.0))) return vbl_v3(0.0, 0.0, 0.0);
-    if (cone.radius <= s->thin_sin * cone.w) {
-        vbl_vec3 kv = vbl_medium_phase_kernel(mv, vbl_v3_dot(ld, cone.axis));
-        vbl_vec3 ku = vbl_medium_phase_kernel(mu, -vbl_v3_dot(cone.axis, d));
+    const double cl = vbl_v3_dot(ld, cone.axis), cc = -vbl_v3_dot(cone.axis, d);
+    int thin = cone.radius <= s->thin_sin * cone.w;
+    if (!thin && s->settings.kernel_tolerance > 0.0 && cone.w > cone.radius) {
+        /* the local bound over this cone: each end's largest lobe bound (beam_light_pair.h) */
+        double b1 = 0.0, b2 = 0.0, b1u = 0.0, b2u = 0.0, b1v = 0.0, b2v = 0.0, x1, x2;
+        for (int i = 0; i < mu->count; ++i) {
+            vbl_vsl_lobe_local_bounds(mu->lobe[i].g, cc, cone.sin_half, cone.cos_half, &x1, &x2);
+            b1u = fmax(b1u, x1);
+            b2u = fmax(b2u, x2);
+        }
+        for (int j = 0; j < mv->count; ++j) {
+            vbl_vsl_lobe_local_bounds(mv->lobe[j].g, cl, cone.sin_half, cone.cos_half, &x1, &x2);
+            b1v = fmax(b1v, x1);
+            b2v = fmax(b2v, x2);
+        }
+        b1 = b1u + b1v;
+        b2 = b2u + b2v;
+        thin = vbl_vsl_midpoint_error_bound(cone.half_angle, b1, b2) <= s->settings.kernel_tolerance;
+    }
+    if (thin) {
+        vbl_vec3 kv = vbl_medium_phase_kernel(mv, cl);
+        vbl_vec3 ku = vbl_medium_phase_kernel(mu, cc);
         return vbl_v3_scale(vbl_v3_mul(kv, ku), cone.geometry);
     }
     return vbl_beam_light_kernel_sum(mu, mv, xu, d, xv, ld, R, s->settings.kernel_samples, j1, j2);
