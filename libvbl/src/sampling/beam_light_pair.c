@@ -68,13 +68,30 @@ static int arc_make(const vbl_beam_light_pair* p, double v, arc* a)
     return a->phi1 > a->phi0;
 }
 
-/* Max of f_l f_c over the VSL cone seen from the camera point at offset du = u - u_p. */
+static double hg_product(const vbl_beam_light_pair* p, vbl_vec3 w)
+{
+    return vbl_hg_eval(p->g_light, vbl_v3_dot(p->l_d, w)) * vbl_hg_eval(p->g_camera, -vbl_v3_dot(p->c_d, w));
+}
+
+/* A vertex value of stage 2: f_l f_c over the VSL cone seen from the camera point at offset
+ * du = u - u_p, as the larger of the axis and the two least-rotation directions to the lobes'
+ * peaks (section 3.1's omega'_max; a lower estimate of the cone's maximum, exact for one flat lobe),
+ * and the axis value alone for cones thinner than VBL_BEAM_LIGHT_PAIR_THIN (R / w). Any positive
+ * vertex values give a valid density (draw and density share them); the 17-point geodesic search of
+ * vbl_vsl_cone_hg_product_max cost ~75% of a vbl pass (perf, issue 13) for a few percent of shape. */
 static double cone_value(const vbl_beam_light_pair* p, const arc* a, double du)
 {
     vbl_vec3 d = vbl_v3_sub(vbl_v3_scale(p->c_d, du), a->perp); /* x_c - x */
+    double w = vbl_v3_length(d);
+    if (w > 0.0 && p->radius <= VBL_BEAM_LIGHT_PAIR_THIN * w) return hg_product(p, vbl_v3_scale(d, 1.0 / w));
     vbl_vsl_cone cone;
     vbl_vsl_cone_init(&cone, d, p->radius, vbl_v3_scale(a->n, -1.0));
-    return vbl_vsl_cone_hg_product_max(&cone, p->g_light, p->l_d, p->g_camera, vbl_v3_scale(p->c_d, -1.0), NULL);
+    double f = hg_product(p, cone.axis);
+    if (p->g_light != 0.0)
+        f = fmax(f, hg_product(p, vbl_vsl_cone_closest(&cone, p->g_light > 0.0 ? p->l_d : vbl_v3_scale(p->l_d, -1.0))));
+    if (p->g_camera != 0.0)
+        f = fmax(f, hg_product(p, vbl_vsl_cone_closest(&cone, p->g_camera > 0.0 ? vbl_v3_scale(p->c_d, -1.0) : p->c_d)));
+    return f;
 }
 
 static int arc_pwl(const vbl_beam_light_pair* p, const arc* a, vbl_pwl* pwl)

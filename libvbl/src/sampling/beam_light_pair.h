@@ -19,8 +19,9 @@
  *     VBL_BEAM_LIGHT_PAIR_VERTICES vertices) in the angle phi about the VSL, u = u_p + D' tan(phi),
  *     D' = hypot(D, R) (D the distance of the VSL centre to the camera line, floored as in the VRL
  *     sampler when R == 0), so pdf(u) = pdf(phi) D' / (D'^2 + (u - u_p)^2) ~ 1 / (w^2 + R^2).
- *     Vertex values: the maximum of f_l f_c over the VSL's cone seen from the camera point at
- *     that vertex (sampling/vsl_cone.h, section 3.1's omega_max / least-rotation rule); vertices
+ *     Vertex values: f_l f_c at the best of the cone's axis and the least-rotation directions to
+ *     the two lobe peaks (sampling/vsl_cone.h, section 3.1's omega'_max rule; the axis alone for
+ *     cones thinner than VBL_BEAM_LIGHT_PAIR_THIN); vertices
  *     cosine-warped (VRL appendix eq 19) with one moved onto the light lobe's peak on the arc.
  * The returned pdf is the joint density in (u, v); it is exactly what vbl_beam_light_pair_density gives.
  * Degenerate geometry: parallel lines give the uniform stage-1 limit, crossing lines are smooth
@@ -41,6 +42,8 @@ extern "C" {
 #endif
 
 #define VBL_BEAM_LIGHT_PAIR_VERTICES 12
+/* Stage-2 vertex values take the axis value where R <= this x the distance (beam_light_pair.c). */
+#define VBL_BEAM_LIGHT_PAIR_THIN 0.02
 
 typedef struct vbl_beam_light_pair_sample {
     double u, v;
