@@ -1,48 +1,140 @@
-/* exploration driver (temporary) */
+/* The extremes every method must survive (issue 18 item 5; docs/readme/render.md "Limits at the
+ * extremes"). Each case either agrees with pt within its confidence interval or runs into a
+ * documented limit that the test asserts (vbl_render_limits' warning, or vbl_render's refusal):
+ *  - limits: vbl_render_limits names the scene and field for |g| > 0.95 with vpl/vrl/vbl/beams
+ *    and for radius0 above 0.1 x the media's size, and stays silent for pt and ordinary scenes;
+ *  - beams.radius0 below 1e-4 x the media's size is refused (before, 1e-200 and 1e-6 rendered an
+ *    exactly black image), at the floor itself the scattered light is not 0;
+ *  - g = 0.999, lit from behind: every method's volume_direct agrees with pt (all sample or
+ *    evaluate the lobe exactly for single scattering), and the methods whose multiple
+ *    scattering misses the lobe are the ones that warn. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
+#include "render/render_internal.h"
+#include "render/render_limits.h"
 #include "render_test_util.h"
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
-#include "render/render_internal.h"
 #include "volume_test_grid.h"
 
-static const char* names[5] = {"pt", "vpl", "vrl", "vbl", "beams"};
+static const vbl_render_method methods[5] = {VBL_RENDER_PT, VBL_RENDER_VPL, VBL_RENDER_VRL, VBL_RENDER_VBL,
+                                             VBL_RENDER_BEAMS};
 
-int main(int argc, char** argv)
+/* The box [-1, 1]^3 of density `scale` (falling to 0 over one more voxel of 0.25: the media's
+ * bounding sphere has diameter 2 sqrt(3) 1.25 = 4.33), albedo 0.8, seen from -y. */
+static vbl_scene* box_scene(double scale, double g, int res, vbl_volume** vol)
 {
-    double g = atof(argv[1]), scale = atof(argv[2]);
-    int light = atoi(argv[3]); /* 0 distant from above, 1 point inside */
-    int res = atoi(argv[4]), passes = atoi(argv[5]), K = atoi(argv[6]);
-    int lp = argc > 7 ? atoi(argv[7]) : 500;
-    double r0b = argc > 8 ? atof(argv[8]) : 0.0, r0v = argc > 9 ? atof(argv[9]) : 0.0;
-    unsigned mask = argc > 10 ? (unsigned)strtoul(argv[10], 0, 0) : 31u;
     vbl_camera cam = rt_camera(vbl_v3(0.2, -4, 0.3), vbl_v3(0.125, 0.125, 0.125), 40.0, res, res);
     vbl_scene* s = tt_scene(&cam);
-    vbl_volume* vol = light == 3 ? tt_make_sphere(24, 1.0) : rt_make_box(9, 0.25, vbl_v3(-1, -1, -1));
-    vbl_scene_add_medium(s, vol, scale, vbl_v3(0.8, 0.8, 0.8), g, NULL);
-    if (light == 0) tt_add_distant(s, vbl_v3(0, 0, -1), 1.0);
-    else if (light == 1) tt_add_point(s, vbl_v3(0.125, 0.125, 0.125), 10.0);
-    else if (light == 2) tt_add_distant(s, vbl_v3(0.06, -1, 0.04), 1.0);
-    else if (light == 3) tt_add_point(s, vbl_v3(0.05, 0.03, 0.02), 10.0);
-    else tt_add_distant(s, vbl_v3(-0.06, 1, -0.04), 1.0);
+    *vol = rt_make_box(9, 0.25, vbl_v3(-1, -1, -1));
+    assert_int_equal(vbl_scene_add_medium(s, *vol, scale, vbl_v3(0.8, 0.8, 0.8), g, NULL), VBL_SUCCESS);
+    return s;
+}
+
+static void test_limit_messages(void** state)
+{
+    (void)state;
+    vbl_volume *vol, *vol2;
+    vbl_scene* s = box_scene(1.0, 0.999, 8, &vol);
+    vbl_scene* plain = box_scene(1.0, 0.95, 8, &vol2);
+    tt_add_distant(s, vbl_v3(0, 0, -1), 1.0);
+    tt_add_distant(plain, vbl_v3(0, 0, -1), 1.0);
+    const double d = vbl_limits_media_diameter(s);
+    assert_true(fabs(d / (2.0 * sqrt(3.0) * 1.25) - 1.0) < 0.01);
+    char msg[2048];
+    vbl_render_options o = tt_options(1, 1, 10, 1);
     for (int m = 0; m < 5; ++m) {
-        if (!(mask & (1u << m))) continue;
-        vbl_render_options o = tt_options(passes, m == 0 ? 4 : 1, m == 0 ? 0 : lp, 11);
-        o.method = (vbl_render_method)m;
-        if (r0b > 0) o.beams.radius0 = r0b;
-        if (r0v > 0) o.beam_lights.radius0 = r0v;
-        tt_stats st;
-        { vbl_film* f = NULL; o.passes = 1; if (vbl_render(s, &o, &f)) { printf("%s: %s\n", names[m], vbl_last_error_message()); continue; } vbl_film_release(f); o.passes = passes; }
-        tt_replicate(s, vbl_estimator_for(o.method), &o, K, res / 8, &st);
-        printf("%-5s direct %.5g +- %.2g  from_volume %.5g +- %.2g finite %d\n", names[m], st.image_mean[0],
-               st.image_se[0], st.image_mean[1], st.image_se[1], st.finite);
-        fflush(stdout);
+        o.method = methods[m];
+        int n = vbl_render_limits(s, &o, msg, sizeof msg);
+        printf("%s: %d %s", vbl_render_method_name(o.method), n, msg);
+        assert_int_equal(n, m == 0 ? 0 : 1);
+        if (m > 0) assert_non_null(strstr(msg, "media[0] phase g = 0.999"));
+        assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 0); /* |g| = 0.95 is inside */
+        assert_string_equal(msg, "");
     }
+    /* radius0: beams' above 0.1 d for beams (and vbl with beam single scattering), vbl's for vbl */
+    o.beams.radius0 = 0.11 * d;
+    o.method = VBL_RENDER_BEAMS;
+    assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 1);
+    assert_non_null(strstr(msg, "beams.radius0"));
+    o.method = VBL_RENDER_VBL;
+    assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 0); /* equiangular single scattering */
+    o.beam_lights.single_scattering = VBL_SINGLE_SCATTERING_BEAMS;
+    assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 1);
+    o.beam_lights.radius0 = 0.11 * d;
+    assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 2);
+    assert_non_null(strstr(msg, "vbl.radius0"));
+    o.beams.radius0 = o.beam_lights.radius0 = 0.09 * d;
+    assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 0);
+    /* a short buffer is truncated, NUL-terminated, and the count stays */
+    o.beam_lights.radius0 = 0.11 * d;
+    char tiny[8];
+    assert_int_equal(vbl_render_limits(s, &o, tiny, sizeof tiny), 2);
+    assert_true(strlen(tiny) < sizeof tiny);
+    assert_int_equal(vbl_render_limits(s, &o, NULL, 0), 2);
+    vbl_scene_release(s);
+    vbl_scene_release(plain);
+    vt_free(vol);
+    vt_free(vol2);
+}
+
+static double layer_mean(const vbl_film* f, const char* name)
+{
+    const float* p = vbl_film_layer_rgb(f, name);
+    int n = vbl_film_width(f) * vbl_film_height(f);
+    double sum = 0.0;
+    for (int i = 0; p && i < 3 * n; ++i) sum += p[i];
+    return sum / (3.0 * n);
+}
+
+/* beams.radius0 below 1e-4 x the media's size is refused; at the floor the image is not black. */
+static void test_beams_radius_floor(void** state)
+{
+    (void)state;
+    vbl_volume* vol;
+    vbl_scene* s = box_scene(1.0, 0.3, 8, &vol);
+    tt_add_distant(s, vbl_v3(0, 0, -1), 1.0);
+    const double d = vbl_limits_media_diameter(s);
+    const double tiny[3] = {1e-200, 1e-6, 0.99e-4 * d};
+    vbl_film* f = NULL;
+    for (int i = 0; i < 3; ++i) {
+        vbl_render_options o = tt_options(1, 1, 200, 3);
+        o.method = VBL_RENDER_BEAMS;
+        o.beams.radius0 = tiny[i];
+        assert_int_equal(vbl_render(s, &o, &f), VBL_ERROR_INVALID_ARGUMENT);
+        assert_null(f);
+        assert_non_null(strstr(vbl_last_error_message(), "beams.radius0"));
+        o.method = VBL_RENDER_VBL; /* vbl uses beams.radius0 only with beam single scattering */
+        o.beam_lights.single_scattering = VBL_SINGLE_SCATTERING_BEAMS;
+        assert_int_equal(vbl_render(s, &o, &f), VBL_ERROR_INVALID_ARGUMENT);
+    }
+    printf("refused: %s\n", vbl_last_error_message());
+    /* at the floor: beams of 4e-4 units still meet camera rays (8x8 pixels, 2000 paths) */
+    vbl_render_options o = tt_options(1, 1, 2000, 3);
+    o.method = VBL_RENDER_BEAMS;
+    o.beams.radius0 = 1e-4 * d;
+    assert_int_equal(vbl_render(s, &o, &f), VBL_SUCCESS);
+    assert_true(tt_film_finite(f));
+    double direct = layer_mean(f, "volume_direct");
+    printf("beams at R0 = %g: volume_direct %g\n", o.beams.radius0, direct);
+    assert_true(direct > 0.0);
+    vbl_film_release(f);
     vbl_scene_release(s);
     vt_free(vol);
-    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_limit_messages),
+        cmocka_unit_test(test_beams_radius_floor),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -168,7 +168,7 @@ VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* 
  * media's size. Writes one line per limit (naming the scene file and the field, '\n'-terminated)
  * into `message` (NULL or size 0: none written; truncated to size) and returns how many (0: none).
  * These renders still run (the CLI prints each line as a warning); vbl_render refuses only
- * beams.radius0 below 1e-5 x the media's size (VBL_ERROR_INVALID_ARGUMENT). */
+ * beams.radius0 below 1e-4 x the media's size (VBL_ERROR_INVALID_ARGUMENT). */
 VBL_API int vbl_render_limits(const vbl_scene* scene, const vbl_render_options* options, char* message,
                               size_t size);
 

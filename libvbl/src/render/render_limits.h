@@ -11,10 +11,10 @@
  * lobe almost never satisfies (warning). */
 #define VBL_LIMIT_CONNECT_G 0.95
 /* An explicit beams.radius0 below this fraction of the media's bounding-sphere diameter is
- * refused: the 1D beam kernel is then narrower than any realistic spacing of camera rays and
+ * refused (the lower end of the default R0, radius_schedule.h): the 1D beam kernel is then narrower than any realistic spacing of camera rays and
  * beams (no overlap is ever found: exactly 0), and below ~1e-16 of the scene the kernel's
  * distance is rounding noise. */
-#define VBL_LIMIT_BEAMS_RADIUS_MIN 1e-5
+#define VBL_LIMIT_BEAMS_RADIUS_MIN 1e-4
 /* An explicit beams.radius0 or vbl.radius0 above this fraction of the diameter blurs light
  * into empty space (warning; the default R0 is clamped to at most this). */
 #define VBL_LIMIT_RADIUS_MAX 0.1
