@@ -84,6 +84,18 @@ int vbl_render_limits(const vbl_scene* scene, const vbl_render_options* options,
                            "%s: vbl.radius0 = %g is above %g x the media's size (%g): virtual beam lights this wide "
                            "lose multiple scattering (volume_from_volume)",
                            scene->path, options->beam_lights.radius0, VBL_LIMIT_RADIUS_MAX, d);
+        const double sigma = scene->extinction.max_sigma_t;
+        const int beams = vbl_limits_uses_beams_radius(name, options);
+        const double r_beams = options->beams.radius0 > 0.0 ? options->beams.radius0 : VBL_LIMIT_DEFAULT_RADIUS_MIN * d;
+        const double r_vbl =
+            options->beam_lights.radius0 > 0.0 ? options->beam_lights.radius0 : VBL_LIMIT_DEFAULT_RADIUS_MIN * d;
+        const double r = m == VBL_RENDER_VBL ? (beams ? fmin(r_beams, r_vbl) : r_vbl) : r_beams;
+        if ((beams || m == VBL_RENDER_VBL) && r * sigma > VBL_LIMIT_THICK_RADIUS_MFP)
+            vbl_limits_add(&out,
+                           "%s: the media are optically thick for method '%s' (sigma_t up to %g): its kernel radius "
+                           "(at least %g) spans %.3g mean free paths, so light is blurred between lit and unlit "
+                           "depths and the image comes out too dark (use pt, vrl or vpl)",
+                           scene->path, name, sigma, r, r * sigma);
     }
     return out.count;
 }

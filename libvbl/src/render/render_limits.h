@@ -19,6 +19,12 @@
  * into empty space (warning; the default R0 is clamped to at most this). */
 #define VBL_LIMIT_RADIUS_MAX 0.1
 
+/* beams and vbl: a kernel radius (the explicit radius0, else the default's floor 1e-4 x the
+ * diameter) more than this many mean free paths at the densest point (radius x the global
+ * majorant) blurs light between lit and unlit depths of an optically thick medium (warning). */
+#define VBL_LIMIT_THICK_RADIUS_MFP 10.0
+#define VBL_LIMIT_DEFAULT_RADIUS_MIN 1e-4
+
 /* Diameter of the media's bounding sphere (0 without media). */
 double vbl_limits_media_diameter(const vbl_scene* scene);
 
