@@ -74,7 +74,7 @@ static void test_limit_messages(void** state)
     o.beams.radius0 = o.beam_lights.radius0 = 0.09 * d;
     assert_int_equal(vbl_render_limits(plain, &o, msg, sizeof msg), 0);
     /* optically thick (density 1e6: the default kernel's floor 4.3e-4 spans 430 mean free paths):
-     * beams and vbl warn, pt, vpl and vrl do not */
+     * beams and vbl warn, vpl too (4.3e6 mean free paths across), pt and vrl do not */
     vbl_volume* vol3;
     vbl_scene* thick = box_scene(1e6, 0.3, 8, &vol3);
     tt_add_distant(thick, vbl_v3(0, 0, -1), 1.0);
@@ -82,7 +82,7 @@ static void test_limit_messages(void** state)
     for (int m = 0; m < 5; ++m) {
         t.method = methods[m];
         int n = vbl_render_limits(thick, &t, msg, sizeof msg);
-        assert_int_equal(n, methods[m] == VBL_RENDER_BEAMS || methods[m] == VBL_RENDER_VBL ? 1 : 0);
+        assert_int_equal(n, methods[m] == VBL_RENDER_PT || methods[m] == VBL_RENDER_VRL ? 0 : 1);
         if (n) assert_non_null(strstr(msg, "optically thick"));
     }
     vbl_scene_release(thick);
@@ -92,6 +92,9 @@ static void test_limit_messages(void** state)
     tt_add_distant(thick, vbl_v3(0, 0, -1), 1.0);
     t.method = VBL_RENDER_BEAMS;
     assert_int_equal(vbl_render_limits(thick, &t, msg, sizeof msg), 0);
+    t.method = VBL_RENDER_VPL; /* 4.3e4 mean free paths across */
+    assert_int_equal(vbl_render_limits(thick, &t, msg, sizeof msg), 1);
+    t.method = VBL_RENDER_BEAMS;
     t.beams.radius0 = 2e-3;
     assert_int_equal(vbl_render_limits(thick, &t, msg, sizeof msg), 1);
     assert_non_null(strstr(msg, "optically thick"));

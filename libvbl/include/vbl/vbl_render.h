@@ -165,7 +165,8 @@ VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* 
 /* The documented limits of the methods at the extremes (docs/readme/render.md "Limits at the
  * extremes") that `scene` rendered with `options` runs into: a near-delta phase function
  * (|g| > 0.95) with vpl, vrl, vbl or beams, an explicit beams.radius0 or vbl.radius0 above 0.1 x the
- * media's size. Writes one line per limit (naming the scene file and the field, '\n'-terminated)
+ * media's size, optically thick media with beams or vbl (kernel radius over 10 mean free paths) or
+ * vpl (media over 1e4 mean free paths across). Writes one line per limit (naming the scene file and the field, '\n'-terminated)
  * into `message` (NULL or size 0: none written; truncated to size) and returns how many (0: none).
  * These renders still run (the CLI prints each line as a warning); vbl_render refuses only
  * beams.radius0 below 1e-4 x the media's size (VBL_ERROR_INVALID_ARGUMENT). */

@@ -94,8 +94,14 @@ int vbl_render_limits(const vbl_scene* scene, const vbl_render_options* options,
             vbl_limits_add(&out,
                            "%s: the media are optically thick for method '%s' (sigma_t up to %g): its kernel radius "
                            "(at least %g) spans %.3g mean free paths, so light is blurred between lit and unlit "
-                           "depths and the image comes out too dark (use pt, vrl or vpl)",
+                           "depths and the image comes out too dark (use pt or vrl)",
                            scene->path, name, sigma, r, r * sigma);
+        if (m == VBL_RENDER_VPL && sigma * d > VBL_LIMIT_THICK_VPL_MFP)
+            vbl_limits_add(&out,
+                           "%s: the media are optically thick for method 'vpl' (sigma_t up to %g, %.3g mean free "
+                           "paths across): only a thin skin is lit and its virtual point lights are rarely reached "
+                           "from the camera rays, so a finite render comes out too dark (use pt or vrl)",
+                           scene->path, sigma, sigma * d);
     }
     return out.count;
 }

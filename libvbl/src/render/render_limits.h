@@ -24,6 +24,11 @@
  * majorant) blurs light between lit and unlit depths of an optically thick medium (warning). */
 #define VBL_LIMIT_THICK_RADIUS_MFP 10.0
 #define VBL_LIMIT_DEFAULT_RADIUS_MIN 1e-4
+/* vpl: media more than this many mean free paths across (global majorant x diameter) light only
+ * a skin a tiny fraction of a camera ray's chord; equiangular camera points rarely land in it and
+ * the 1/w^2 near field makes the estimate heavy-tailed: a finite render comes out too dark
+ * (warning). */
+#define VBL_LIMIT_THICK_VPL_MFP 1e4
 
 /* Diameter of the media's bounding sphere (0 without media). */
 double vbl_limits_media_diameter(const vbl_scene* scene);
