@@ -69,6 +69,17 @@ void vbl_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* t
     vbl_emission_collect(ctx, ts, origin, wi, b, rng, L);
 }
 
+/* The phase-sampled (or BRDF-sampled) half of pt's MIS pair at a terminal first vertex: the
+ * emission collected along the sampled direction, weighted against the light sampling pdf. */
+static void vbl_emission_continuation(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x, vbl_vec3 wi,
+                                      double pdf, vbl_vec3 f, vbl_rng* rng, vbl_vec3* L)
+{
+    const vbl_scene* scene = ctx->scene;
+    if (!(pdf > 0.0) || !(vbl_v3_max_component(f) > 0.0)) return;
+    double w = vbl_mis_weight(ctx->options.mis, pdf, vbl_emission_lights_pdf(&scene->emission_lights, x, wi));
+    vbl_emission_collect(ctx, ts, x, wi, vbl_v3_scale(f, w / pdf), rng, L);
+}
+
 void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_camera_sample* sample,
                                int direct, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -84,12 +95,29 @@ void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* 
         if (!(direct & VBL_EMISSION_DIRECT_VOLUME) || !(sigma_t > 0.0)) return;
         vbl_medium_point mp;
         vbl_medium_point_from_components(scene, components, &mp);
-        vbl_emission_nee_medium(ctx, ts, vbl_v3_madd(o, d, t), d, sigma_t, &mp, 1, one, rng,
-                                &out->L[VBL_CLASS_VOLUME_DIRECT]);
+        const vbl_vec3 x = vbl_v3_madd(o, d, t);
+        vbl_vec3* L = &out->L[VBL_CLASS_VOLUME_DIRECT];
+        vbl_emission_nee_medium(ctx, ts, x, d, sigma_t, &mp, 0, one, rng, L);
+        double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf = 0.0;
+        vbl_vec3 wi;
+        if (!vbl_medium_phase_sample(&mp, d, u0, u1, u2, &wi, &pdf)) return;
+        vbl_vec3 k = vbl_v3_scale(vbl_medium_phase_kernel(&mp, vbl_v3_dot(d, wi)), 1.0 / sigma_t);
+        vbl_emission_continuation(ctx, ts, x, wi, pdf, k, rng, L);
         return;
     }
     if (!(direct & VBL_EMISSION_DIRECT_SURFACE) || !scene->surfaces || !isfinite(sample->t_max)) return;
     vbl_surface_hit hit; /* the surface the ray reached (probability T(0, t_max)) */
     if (!vbl_surfaces_intersect(scene->surfaces, o, d, 0.0, INFINITY, &hit)) return;
-    vbl_emission_nee_surface(ctx, ts, &hit, vbl_v3_scale(d, -1.0), 1, one, rng, &out->L[VBL_CLASS_SURFACE_DIRECT]);
+    const vbl_vec3 wo = vbl_v3_scale(d, -1.0);
+    vbl_vec3* L = &out->L[VBL_CLASS_SURFACE_DIRECT];
+    vbl_emission_nee_surface(ctx, ts, &hit, wo, 0, one, rng, L);
+    const vbl_material* m = &scene->materials[hit.material];
+    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf = 0.0;
+    vbl_vec3 wi, f;
+    if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) return;
+    double cos_i = vbl_v3_dot(wi, hit.shading_normal);
+    if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) return;
+    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit.position, hit.geometric_normal, wi);
+    double w = vbl_mis_weight(ctx->options.mis, pdf, vbl_emission_lights_pdf(&scene->emission_lights, hit.position, wi));
+    vbl_emission_collect(ctx, ts, origin, wi, vbl_v3_scale(f, cos_i * w / pdf), rng, L);
 }

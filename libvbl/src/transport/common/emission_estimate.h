@@ -10,8 +10,9 @@
  *     vertex is the path's last (weight 1).
  * The camera-side estimator (vbl_camera_media_emission) is pt's first vertex: the camera ray's
  * own emission (volume_emission) and, at its first real collision or surface, emission light
- * sampling with weight 1 (volume_direct, surface_direct); the photons the media emit
- * (light_emission.h) carry everything that scattered more often. */
+ * sampling MIS-combined with one phase/BRDF-sampled direction whose collected emission gets the
+ * complementary weight (volume_direct, surface_direct), the light that scattered once; the
+ * photons the media emit (light_emission.h) carry everything that scattered more often. */
 #ifndef VBL_TRANSPORT_EMISSION_ESTIMATE_H
 #define VBL_TRANSPORT_EMISSION_ESTIMATE_H
 
@@ -50,7 +51,8 @@ void vbl_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* t
 
 /* The camera ray's share of the media's emission (nothing without scene->has_emission): one
  * free flight to sample->t_max collecting the emission seen directly into volume_emission, then
- * the `direct` parts (none when max_bounces is 0). */
+ * the `direct` parts (none when max_bounces is 0), each two collecting rays (light sampling and
+ * phase/BRDF sampling, MIS by options.mis). */
 void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_camera_sample* sample,
                                int direct, vbl_rng* rng, vbl_sample_value* out);
 
