@@ -21,7 +21,11 @@
  * transport/common/light_emission.h) and the total length of THIS pass's VRLs (deterministic: the store
  * depends only on scene, seed and pass). Bias ~ R^2 falls like p^(alpha - 1), variance of the
  * pass average like p^(-alpha) (radius_schedule.h): both -> 0 with fixed memory per pass.
- * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests). */
+ * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests).
+ * Issue 13 item 4: the VSL at x has radius min(R_p, s_p radius_mfp / sigma_t(x)) (optical units,
+ * s_p = R_p / R_0); the pair sampler uses min(R_p, s_p radius_mfp / majorant), below every VSL's
+ * radius; R_p == 0 is the VRL limit (the VRL sampler and f f / w^2); the kernel is the thin-cone
+ * midpoint wherever its error bound is below kernel_tolerance (sampling/beam_light_pair.h). */
 #ifndef VBL_TRANSPORT_VBL_BEAMS_H
 #define VBL_TRANSPORT_VBL_BEAMS_H
 
