@@ -67,7 +67,7 @@ def main():
     ap.add_argument("--vbl-spp", type=int, default=1024)
     ap.add_argument("--cycles-spp", type=int, default=1024)
     ap.add_argument("--res", default="48x36")
-    ap.add_argument("--exposure", type=float, default=40.0, help="PNG exposure multiplier")
+    ap.add_argument("--exposure", type=float, default=5.0, help="PNG exposure multiplier")
     ap.add_argument("--results")
     ap.add_argument("--png")
     ap.add_argument("--keep", action="store_true")
