@@ -67,6 +67,7 @@ def main():
     ap.add_argument("--vbl-spp", type=int, default=1024)
     ap.add_argument("--cycles-spp", type=int, default=1024)
     ap.add_argument("--res", default="48x36")
+    ap.add_argument("--step-rate", type=float, default=1.0, help="Cycles volume step rate (step = voxel x rate)")
     ap.add_argument("--exposure", type=float, default=5.0, help="PNG exposure multiplier")
     ap.add_argument("--results")
     ap.add_argument("--png")
@@ -102,12 +103,13 @@ def main():
         vbl_imgs.append({l: read(out, l) for l, _ in PAIRS})
         cout = os.path.join(tmp, "cycles_%d.exr" % k)
         blender([os.path.join(HERE, "render_cycles_fire.py"), "--", "--scene", sp, "--spp", str(a.cycles_spp),
-                 "--seed", str(k), "--out", cout], os.path.join(tmp, "cycles_%d.log" % k))
+                 "--seed", str(k), "--step-rate", str(a.step_rate), "--out", cout], os.path.join(tmp, "cycles_%d.log" % k))
         stem = cout[:-4]
         cyc_imgs.append({l: read(cout if p is None else "%s.%s.exr" % (stem, p)) for l, p in PAIRS})
     lines = ["# libvbl pt vs Cycles 3.4 on a Mantaflow fire frame (bake_gas.py --flow BOTH --frames 12 --res 32,",
-             "# frame 12, grids padded by 2 active zero voxels), %dx%d, %d runs each: libvbl %d spp, Cycles %d spp"
+             "# frame 12, grids padded by 2 active zero voxels), %dx%d, %d runs each: libvbl %d spp, Cycles %d spp,"
              % (W, H, a.runs, a.vbl_spp, a.cycles_spp),
+             "# Cycles volume step rate %g (ray-marching step = voxel size x rate)" % a.step_rate,
              "# scene: " + json.dumps({k: v for k, v in scene["media"][0].items() if k != "vdb"}),
              "# mean = image mean of R+G+B over the runs; se = standard error from the runs' spread",
              "%-20s %12s %10s %12s %10s %8s %6s" % ("layer", "libvbl", "se", "cycles", "se", "ratio", "z")]
