@@ -27,7 +27,6 @@ diffuse_indirect, volume_direct, volume_indirect, emission (the kit's passes.py 
 """
 import argparse
 import json
-import math
 import os
 import subprocess
 import sys
