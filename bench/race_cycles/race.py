@@ -174,9 +174,9 @@ class Race:
             res = self.method_at_budget(scene, name, m, budget)
             if res is None:
                 self.log(f"{name}: {m} skipped: {self.skipped[-1]['note']}")
-                continue
-            results[m] = res
-            self.log(f"{name}: {m} {results[m][3]} passes, {results[m][1]:.1f} CPU s, {results[m][2]:.1f} s wall")
+            else:
+                results[m] = res
+                self.log(f"{name}: {m} {res[3]} passes, {res[1]:.1f} CPU s, {res[2]:.1f} s wall")
             if kit is not None and i == len(methods) // 2:  # interleave the second Cycles render
                 self.log(f"{name}: Cycles {a.check_spp} spp (seed 1) for the mean check")
                 cy2_out = os.path.join(a.work, f"{name}_cycles_check.exr")
