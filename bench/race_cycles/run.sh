@@ -6,7 +6,8 @@
 # Cycles reference kit at ../shared/tools/cycles-reference (relative to the project root).
 # Writes bench/results/race_cycles.{csv,txt} (--quick: race_cycles_quick.*) and
 # docs/images/race_cycles.png; renders and cached references go to build/race_cycles.
-# Not in CI: it measures time. About an hour of 2 cores at the defaults; --quick a few minutes.
+# Not in CI: it measures time. Hours of 2 cores at the defaults (Cycles 256 spp, references 8x the
+# budget); the published run used --spp 12 --ref-factor 2.5 --budget 15; --quick is a smoke run.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 kit="$here/../../../shared/tools/cycles-reference"
