@@ -509,6 +509,47 @@ static void test_memory_limit(void** state)
     assert_cli(args, 0, "");
 }
 
+/* ---- Cancelled loads ------------------------------------------------------------------------------ */
+
+/* A cancel flag raised (a signal while loading) stops a volume or scene load at its next step with
+ * VBL_ERROR_INTERRUPTED and nothing kept (the sanitizer build checks leaks); cleared, both load. */
+static void test_load_cancel(void** state)
+{
+    (void)state;
+    volatile int cancel = 1;
+    const char* files[] = {fixture("box.vdb"), fixture("box.nvdb")};
+    for (int f = 0; f < 2; ++f) {
+        vbl_volume_load_options o = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+        o.cancel = &cancel;
+        vbl_volume* v = NULL;
+        cancel = 1;
+        assert_int_equal(vbl_volume_load(files[f], &o, &v), VBL_ERROR_INTERRUPTED);
+        assert_null(v);
+        assert_message(files[f], "load cancelled");
+        cancel = 0;
+        assert_int_equal(vbl_volume_load(files[f], &o, &v), VBL_SUCCESS);
+        vbl_volume_release(v);
+    }
+    char scene[8192];
+    snprintf(scene, sizeof scene,
+             "{\"camera\": {\"position\": [0, -5, 0.8], \"look_at\": [0.8, 0.8, 0.8], \"up\": [0, 0, 1], \"fov_deg\": 30, "
+             "\"resolution\": [8, 8]}, \"lights\": [{\"type\": \"environment\", \"radiance\": [1, 1, 1]}], "
+             "\"media\": [{\"vdb\": \"%s\", \"albedo\": 0.5}, {\"vdb\": \"%s\", \"albedo\": 0.5}]}",
+             fixture("box.vdb"), fixture("box.nvdb"));
+    const char* path = write_text("cancel.json", scene);
+    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+    lo.cancel = &cancel;
+    vbl_scene* sc = NULL;
+    cancel = 1;
+    assert_int_equal(vbl_scene_load_ex(path, &lo, &sc), VBL_ERROR_INTERRUPTED);
+    assert_null(sc);
+    assert_message(path, "load cancelled before media[0]");
+    cancel = 0;
+    assert_int_equal(vbl_scene_load_ex(path, &lo, &sc), VBL_SUCCESS);
+    assert_int_equal(vbl_scene_medium_count(sc), 2);
+    vbl_scene_release(sc);
+}
+
 /* With VBL_FUZZ_KEEP=DIR the inputs are written there and kept: the fuzz targets' corpus replay
  * (tests/fuzz/CMakeLists.txt) runs every one of them through the same entry points. */
 static int g_keep;
@@ -545,7 +586,7 @@ int main(void)
         cmocka_unit_test(test_nanovdb_name),     cmocka_unit_test(test_nanovdb_sizes),
         cmocka_unit_test(test_exr_data_window),  cmocka_unit_test(test_ply_headers),
         cmocka_unit_test(test_root_counts),      cmocka_unit_test(test_parse_memory_size),
-        cmocka_unit_test(test_memory_limit),
+        cmocka_unit_test(test_memory_limit),     cmocka_unit_test(test_load_cancel),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
