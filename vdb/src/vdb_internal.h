@@ -48,7 +48,13 @@ void check_descriptor_sizes(std::istream& is, std::streamoff file_size, uint32_t
 // position after its compression flags; `tree_type` is the descriptor's ("Tree_float_5_4_3"),
 // `grid_end` where the grid's bytes end.
 void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, const std::string& grid,
-                             const std::string& tree_type, std::streamoff grid_end);
+                             const std::string& tree_type, std::streamoff grid_end, uint32_t compression, bool half);
+
+// Walks a float tree's topology (vdb_openvdb_topology.cc) from its first root tile to its last
+// leaf mask, decoding the internal nodes' compressed values; throws Failure(VBL_ERROR_CORRUPT_FILE)
+// on what would make OpenVDB's readTopology throw (and leak) or on repeated root child origins.
+void check_float_topology(std::istream& is, std::streamoff grid_end, uint32_t compression, bool half, uint64_t tiles,
+                          uint64_t children, const std::string& what);
 
 // NanoVDB (.nvdb): every grid in file order (multi-grid buffers expanded); reads the buffers.
 std::vector<GridEntry> nanovdb_list(const std::string& path);

@@ -82,7 +82,8 @@ public:
                         item.compression_known = true;
                     }
                 }
-                if (is) check_grid_header_sizes(is, file_size, fileVersion(), name, item.grid_type, gd.getEndPos());
+                if (is) check_grid_header_sizes(is, file_size, fileVersion(), name, item.grid_type, gd.getEndPos(),
+                                                     item.compression_known ? item.compression : compression(), item.half);
                 is.clear();
             }
             if (!item.compression_known) {

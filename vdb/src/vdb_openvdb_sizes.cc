@@ -133,7 +133,8 @@ uint64_t root_value_bytes(const std::string& tree_type)
 // masks (2 x 4096 bytes for 5_4_3 trees) at least. With the stream at its end the loops go on
 // reading nothing: 2^32 tiles took minutes, and 2^32 children allocated a 264 KB upper node each
 // (one map slot, each overwriting and leaking the last). The counts must fit the grid's bytes.
-void check_root_counts(Cursor& c, uint64_t value_bytes, std::streamoff grid_end, const std::string& what)
+void check_root_counts(Cursor& c, uint64_t value_bytes, std::streamoff grid_end, const std::string& what, uint64_t* tiles_out,
+                       uint64_t* children_out)
 {
     c.u32(what + " tree buffer count");
     c.skip(value_bytes, what + " background value");
@@ -145,12 +146,14 @@ void check_root_counts(Cursor& c, uint64_t value_bytes, std::streamoff grid_end,
         throw Failure(VBL_ERROR_CORRUPT_FILE, what + " root tile count " + std::to_string(tiles) + " and child count " +
                                                   std::to_string(children) + " need at least " + std::to_string(needs) +
                                                   " bytes but the grid has " + std::to_string(left) + " bytes left");
+    *tiles_out = tiles;
+    *children_out = children;
 }
 
 } // namespace
 
 void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, const std::string& grid,
-                             const std::string& tree_type, std::streamoff grid_end)
+                             const std::string& tree_type, std::streamoff grid_end, uint32_t compression, bool half)
 {
     Rewind rewind(is);
     Cursor c{is, file_size};
@@ -164,7 +167,12 @@ void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_
     if (!value_bytes || file_version < openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING || !openvdb::math::MapRegistry::isRegistered(map_type)) return;
     openvdb::math::MapRegistry::createMap(map_type)->read(is);
     if (!is) throw Failure(VBL_ERROR_CORRUPT_FILE, "truncated file in " + what + " transform");
-    check_root_counts(c, value_bytes, grid_end < file_size ? grid_end : file_size, what);
+    const std::streamoff end = grid_end < file_size ? grid_end : file_size;
+    uint64_t tiles = 0, children = 0;
+    check_root_counts(c, value_bytes, end, what, &tiles, &children);
+    // Float trees (the ones rendered) get the whole topology walked, in the format since 222.
+    if (tree_type == "Tree_float_5_4_3" && file_version >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
+        check_float_topology(is, end, compression, half, tiles, children, what);
 }
 
 } // namespace vbl_vdb
