@@ -519,6 +519,11 @@ static void test_memory_limit(void** state)
     assert_cli(args, 3, "more than the memory limit");
     snprintf(args, sizeof args, "info '%s'", fixture("box.vdb"));
     assert_cli(args, 0, "");
+    /* a 4000 x 4000 render: its accumulators (and their pass copy) need GBs */
+    const char* src = getenv("VBL_SOURCE_DIR");
+    snprintf(args, sizeof args, "render '%s/samples/cloud.json' --vdb '%s' --resolution 4000x4000 --passes 1 --memory-limit 256M -o '%s'",
+             src ? src : ".", fixture("box.vdb"), temp_path("limit_render.exr"));
+    assert_cli(args, 3, "the accumulators of a 4000x4000 film needs");
 }
 
 /* ---- Cancelled loads ------------------------------------------------------------------------------ */
