@@ -90,6 +90,7 @@ struct Walk {
             n = 0;
             for (uint64_t w : value_mask) n += uint64_t(__builtin_popcountll(w));
         }
+        if (half && n == 0) return; // HalfReader::read reads nothing for no values (readData does)
         values(n * (half ? 2 : 4), node);
     }
 
