@@ -57,9 +57,12 @@ typedef struct vbl_scene_load_options {
      * camera's resolution (the lens keeps its vertical fov, or its focal length, sensor and fit). */
     const char* camera;
     int width, height;
+    /* Non-NULL: *cancel != 0 stops the load before the next medium or at the next step of a
+     * volume load (vbl_volume_load_options.cancel): VBL_ERROR_INTERRUPTED. */
+    const volatile int* cancel;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0, NULL}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
