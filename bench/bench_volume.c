@@ -71,6 +71,7 @@ static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
 }
 
 static double g_majorant_scale = 1.0; /* vbl_tracking_settings.majorant_scale of run_estimator */
+static int g_residual_mid = 0;        /* vbl_tracking_settings.residual_mid of run_estimator */
 
 /* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
 static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, int nrays, int spr,
@@ -84,7 +85,7 @@ static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, in
     {
         vbl_extinction_cursor cur;
         vbl_extinction_cursor_init(&cur, ext);
-        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0};
+        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0, g_residual_mid};
 #pragma omp for schedule(dynamic, 4)
         for (int r = 0; r < nrays; ++r) {
             double s = 0.0, s2 = 0.0;
@@ -164,17 +165,26 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
         vbl_extinction_add(&ext, v, thin ? 0.25 * scale : scale, NULL);
         const vbl_transmittance_estimator ests[] = {VBL_TRANSMITTANCE_RATIO_TRACKING,
                                                     VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING};
-        for (int e = 0; e < 4; ++e) {
+        /* rows: ratio, residual, residual with the mid-bound control at k = 1 and 2, then the
+         * global majorant */
+        for (int e = 0; e < 6; ++e) {
             double var = 0, mt = 0, lq = 0, s1 = 1e300;
+            const int mid = e == 2 || e == 3, global = e >= 4;
+            const vbl_transmittance_estimator est = ests[mid ? 1 : e % 2];
+            g_residual_mid = mid;
+            g_majorant_scale = e == 3 ? 2.0 : 1.0;
             for (int rep = 0; rep < 3; ++rep) {
-                double s = run_estimator(&ext, rays, nrays, 16, ests[e % 2], e / 2, 1, &var, &mt, &lq);
+                double s = run_estimator(&ext, rays, nrays, 16, est, global, 1, &var, &mt, &lq);
                 if (s < s1) s1 = s;
             }
             double q = (double)nrays * 16 / s1, limit = raw / fmax(lq, 1e-9);
             printf("| %s (scale %.3g) | %s%s | %.4f | %.3g | %.2f | %.4g | %.4g | %.2f | %.3g |\n", thin ? "thin" : "thick",
-                   thin ? 0.25 * scale : scale, vbl_transmittance_estimator_name(ests[e % 2]), e / 2 ? " (global)" : "", mt, var, lq, q, limit,
+                   thin ? 0.25 * scale : scale, vbl_transmittance_estimator_name(est),
+                   global ? " (global)" : (e == 2 ? " mid-bound" : (e == 3 ? " mid-bound k=2" : "")), mt, var, lq, q, limit,
                    limit / q, var > 0 ? q / var : 0.0);
         }
+        g_residual_mid = 0;
+        g_majorant_scale = 1.0;
     }
     free(rays);
     return 0;

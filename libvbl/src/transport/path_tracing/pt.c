@@ -274,6 +274,16 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
      * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
      * majorant (their noise is dominated by the path, not by T) */
+    /* options.pt.shadow_transmittance: pt's transmittance estimates (NEE shadow rays, the
+     * equiangular sample's segment) by residual ratio tracking with the mid-bound control
+     * (volume/transmittance.h); free flights are unaffected */
+    vbl_render_context shadow_ctx;
+    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_RESIDUAL_MID) {
+        shadow_ctx = *ctx;
+        shadow_ctx.tracking.estimator = VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
+        shadow_ctx.tracking.residual_mid = 1;
+        ctx = &shadow_ctx;
+    }
     const vbl_render_context* first_ctx = ctx;
     vbl_render_context tight_ctx;
     if (ctx->tracking.majorant_scale > 1.0) {
