@@ -4,6 +4,7 @@
  *
  *   build/bench/bench_pt [--scene bench/scenes/smoky_lambert_room.json] [--res 64x48] [--spp 64]
  *       [--reference-seconds 120] [--threads 2] [--configs eq_off,eq_on,...] [--vdb build/samples/cloud.vdb]
+ *       [--seed 1]
  *
  * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
  * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
@@ -54,6 +55,7 @@ static const bench_config bench_configs[] = {
     {"tr_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
     {"tr_mid_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
     {"tr_mid_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
+    {"tr_mid_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 
@@ -63,6 +65,7 @@ int main(int argc, char** argv)
     const char* configs = "eq_off,eq_on";
     const char* vdb = VBL_BENCH_DEFAULT_VDB;
     int width = 64, height = 48, spp = 64, threads = 2;
+    unsigned long long seed = 1;
     double reference_seconds = 120.0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
@@ -75,6 +78,7 @@ int main(int argc, char** argv)
         else if (!strcmp(a, "--configs")) configs = v;
         else if (!strcmp(a, "--vdb")) vdb = v;
         else if (!strcmp(a, "--spp")) spp = atoi(v);
+        else if (!strcmp(a, "--seed")) seed = strtoull(v, NULL, 10);
         else if (!strcmp(a, "--threads")) threads = atoi(v);
         else if (!strcmp(a, "--reference-seconds")) reference_seconds = atof(v);
         else if (!strcmp(a, "--res")) {
@@ -93,7 +97,7 @@ int main(int argc, char** argv)
                                  reference_seconds, 0};
     bench_reference ref;
     bench_reference_make(scene, &q, &ref);
-    printf("# %s %dx%d, %d spp (1 per pass), %d threads; reference %.0f s\n", scene_file, width, height, spp, threads,
+    printf("# %s %dx%d, %d spp (1 per pass), %d threads, seed %llu; reference %.0f s\n", scene_file, width, height, spp, threads, seed,
            ref.seconds);
     printf("%-14s %8s %8s", "config", "wall_s", "cpu_s");
     for (int l = 0; l < BENCH_LAYERS; ++l)
@@ -112,7 +116,7 @@ int main(int argc, char** argv)
         o.method = VBL_RENDER_PT;
         o.spp = 1;
         o.passes = spp;
-        o.seed = 1;
+        o.seed = seed;
         o.threads = threads;
         o.pt.equiangular = bc->equiangular;
         o.pt.sampler = bc->sampler;

@@ -189,7 +189,11 @@ typedef enum vbl_render_option_effect {
       "pt.shadow_transmittance", "--pt-shadow-transmittance", VBL_PT_SHADOW_RENDER, 0, 1, 0,                 \
       "render|residual-mid", HASH,                                                                           \
       "pt: NEE shadow rays' transmittance: the `transmittance` estimator, or residual ratio tracking with the " \
-      "majorant block's mid-bound as control (unbiased)")
+      "majorant block's mid-bound as control (unbiased)")                                                   \
+    X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
+      "--pt-equiangular-quads", 0, 0, 1, 0, NULL, HASH,                                                      \
+      "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \
+      "the collision's NEE and phase sampling)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
