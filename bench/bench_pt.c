@@ -8,7 +8,8 @@
  *
  * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
  * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
- * tr_mid*: pt.shadow_transmittance = residual-mid).
+ * tr_mid*: pt.shadow_transmittance = residual-mid; every other row sets it to render), eq_quads /
+ * eq_quads_mid (pt.equiangular_quads on).
  * Every configuration renders --spp passes of 1 sample per pixel with the same seed. Per layer it
  * prints rMAE (sum |I - Iref| / sum |Iref|) and rMAE scaled to the first configuration's CPU time,
  * rMAE * sqrt(c / c_first) (noise falls as 1/sqrt(samples), so this is the error it would reach in
@@ -32,30 +33,34 @@ typedef struct bench_config {
     vbl_transmittance_estimator shadow; /* options.transmittance */
     double majorant_scale;              /* options.transmittance_majorant_scale (0: default) */
     vbl_pt_sampler sampler;             /* options.pt_sampler */
-    vbl_pt_shadow_transmittance pt_shadow; /* options.pt.shadow_transmittance (0: render) */
+    vbl_pt_shadow_transmittance pt_shadow; /* options.pt.shadow_transmittance */
+    int equiangular_quads;              /* options.pt.equiangular_quads */
 } bench_config;
 
 static const bench_config bench_configs[] = {
-    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER},
-    {"eq_off_sobol", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER},
-    {"eq_on_sobol", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER},
+    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_off_sobol", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on_sobol", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER, 0},
     /* issue 14 item 4: residual ratio tracking with the mid-bound control (pt.shadow_transmittance) */
-    {"tr_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
-    {"tr_mid_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
-    {"tr_mid_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
-    {"tr_mid_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID},
+    {"tr_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    /* issue 14 item 1: quad lights in the equiangular NEE (pt.equiangular_quads) */
+    {"eq_quads", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 1},
+    {"eq_quads_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 
@@ -121,6 +126,7 @@ int main(int argc, char** argv)
         o.pt.equiangular = bc->equiangular;
         o.pt.sampler = bc->sampler;
         o.pt.shadow_transmittance = bc->pt_shadow;
+        o.pt.equiangular_quads = bc->equiangular_quads;
         o.mis = bc->mis;
         o.transmittance = bc->shadow;
         if (bc->majorant_scale > 0.0) o.transmittance_majorant_scale = bc->majorant_scale;

@@ -292,7 +292,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * equiangular sample's segment) by residual ratio tracking with the mid-bound control
      * (volume/transmittance.h); free flights are unaffected */
     vbl_render_context shadow_ctx;
-    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_RESIDUAL_MID) {
+    if (ctx->options.pt.shadow_transmittance != VBL_PT_SHADOW_RENDER) { /* residual-mid, the default */
         shadow_ctx = *ctx;
         shadow_ctx.tracking.estimator = VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
         shadow_ctx.tracking.residual_mid = 1;
