@@ -8,7 +8,6 @@
 #include "transport/common/radius_schedule.h"
 #include "sampling/vrl_camera_mis.h"
 #include "sampling/vrl_pair.h"
-#include "media/media.h"
 #include "media/medium.h"
 #include "transport/common/light_emission.h"
 #include "transport/common/photon_trace.h"
@@ -58,7 +57,8 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
 {
     vbl_piece_weight_ctx* w = user;
     const vbl_scene* scene = w->ctx->scene;
-    double comps[VBL_MAX_MEDIA], sum = 0.0;
+    vbl_medium_point mp; /* media/medium.h */
+    double sum = 0.0;
     /* cancel / time limit: weight 0 leaves the remaining pieces out, so the build ends at once;
      * the stop is latched, so the driver drops this pass at its first pixel and the tree never
      * reaches the film */
@@ -66,10 +66,10 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
     if (w->ctx->stop_latch && *w->ctx->stop_latch) return 0.0;
     for (int k = 0; k < VBL_VRL_SELECT_DENSITY_POINTS; ++k) {
         vbl_vec3 x = vbl_v3_madd(l->origin, l->direction, v0 + (v1 - v0) * (k + 0.5) / VBL_VRL_SELECT_DENSITY_POINTS);
-        if (!(vbl_extinction_eval(w->ctx->extinction, &w->cursor, x, comps) > 0.0)) continue;
-        for (int i = 0; i < scene->media_count; ++i) {
-            vbl_vec3 a = scene->media[i].albedo;
-            sum += comps[i] * (a.x + a.y + a.z) / 3.0;
+        if (!(vbl_medium_query(scene, w->ctx->extinction, &w->cursor, x, &mp) > 0.0)) continue;
+        for (int i = 0; i < mp.count; ++i) {
+            vbl_vec3 a = mp.lobe[i].albedo;
+            sum += mp.lobe[i].sigma_t * (a.x + a.y + a.z) / 3.0;
         }
     }
     return fmax(sum / VBL_VRL_SELECT_DENSITY_POINTS, w->floor);
@@ -115,14 +115,9 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     vbl_vrl_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vrl store)", scene->path);
     s->settings = *settings;
-    double w = 0.0, g = 0.0;
-    for (int i = 0; i < scene->media_count; ++i) {
-        const vbl_medium* m = &scene->media[i];
-        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
-        w += wi;
-        g += wi * m->g;
-    }
-    s->g_camera = w > 0.0 ? g / w : 0.0;
+    vbl_medium_point media;
+    vbl_medium_point_scene(scene, &media);
+    s->g_camera = vbl_medium_mean_g(&media); /* the camera samplers' hint */
     vbl_vec3 center;
     double radius = 0.0;
     if (settings->rr_radius > 0.0 && vbl_media_bounding_sphere(scene, &center, &radius))
