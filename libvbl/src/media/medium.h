@@ -11,21 +11,9 @@
 
 #include "core/math.h"
 #include "core/rng.h"
+#include "core/segment.h" /* vbl_segment */
 #include "scene/scene.h"
 #include "volume/transmittance.h"
-
-/* A ray's parametric piece x(t) = origin + t direction, t in [t0, t1] (direction unit). */
-typedef struct vbl_segment {
-    vbl_vec3 origin, direction;
-    double t0, t1;
-} vbl_segment;
-
-static inline vbl_segment vbl_segment_make(vbl_vec3 origin, vbl_vec3 direction, double t0, double t1)
-{
-    vbl_segment s = {origin, direction, t0, t1};
-    return s;
-}
-static inline vbl_vec3 vbl_segment_at(const vbl_segment* s, double t) { return vbl_v3_madd(s->origin, s->direction, t); }
 
 /* One medium's share at a point: its extinction, albedo and HG g (sigma_s = albedo sigma_t). */
 typedef struct vbl_phase_lobe {
