@@ -427,18 +427,18 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
             cb.vrl = l;
             cb.albedo = vbl_v3(0.0, 0.0, 0.0);
-            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0};
+            double xi = vbl_rng_uniform(rng);
+            vbl_surface_kernel kernel = {gs->vrl_radius, nk, {0.0, 0.0, 0.0}};
             if (gs->vrl_radius > 0.0)
-                for (int k = 0; k < 3; ++k) jitter[k] = vbl_rng_uniform(rng);
+                for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(rng);
             vbl_vec3 e;
             if (scene->media_count > 1) {
                 /* overlapping media: the phase at the VRL point is the mixture of their lobes there,
                  * the sampler fitted to the scene's lobes; the weights replace the albedo */
-                e = vbl_surface_from_vrl_mixture(&sp, &sv, gs->vrl_radius, &lobes, vbl_vrl_medium_mixture, &cb, xi, nk,
-                                                 jitter);
+                e = vbl_surface_from_vrl_mixture(&sp, &sv, &kernel, &lobes, vbl_vrl_medium_mixture, &cb, xi);
                 cb.albedo = vbl_v3(1.0, 1.0, 1.0);
             } else if (gs->vrl_radius > 0.0) {
-                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, NULL, NULL);
+                e = vbl_surface_from_vbl(&sp, &sv, &kernel, vbl_vrl_medium, &cb, xi, NULL, NULL);
             } else {
                 e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, NULL, NULL);
             }
