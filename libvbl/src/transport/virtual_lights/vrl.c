@@ -90,7 +90,7 @@ vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_ph
     w.floor = ctx->extinction->max_sigma_t > 0.0 ? 1e-3 * ctx->extinction->max_sigma_t : 1.0;
     return vbl_vrl_tree_build_stoppable(tree, photons->vrls, photons->vrl_count, ctx->options.max_bounces,
                                         VBL_VRL_SELECT_FLOOR_REL * radius, VBL_VRL_SELECT_PIECE_REL * radius,
-                                        vbl_piece_weight, &w, vbl_vrl_tree_stop, (void*)ctx);
+                                        vbl_piece_weight, &w, &(vbl_vrl_tree_stop_hook){vbl_vrl_tree_stop, (void*)ctx});
 }
 
 vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store)
