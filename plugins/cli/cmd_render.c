@@ -117,6 +117,11 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
         return code;
     }
 
+    char limits[4096];
+    if (vbl_render_limits(scene, &options, limits, sizeof limits) > 0) /* documented limits: render.md */
+        for (char* line = strtok(limits, "\n"); line; line = strtok(NULL, "\n"))
+            fprintf(stderr, "vbl render: warning: %s\n", line);
+
     int w = 0, h = 0;
     vbl_scene_resolution(scene, &w, &h);
     char note[4096];

@@ -185,6 +185,17 @@ VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
 VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options,
                               vbl_film** out_film);
 
+/* The documented limits of the methods at the extremes (docs/readme/render.md "Limits at the
+ * extremes") that `scene` rendered with `options` runs into: a near-delta phase function
+ * (|g| > 0.95) with vpl, vrl, vbl or beams, an explicit beams.radius0 or vbl.radius0 above 0.1 x the
+ * media's size, optically thick media with beams or vbl (kernel radius over 10 mean free paths) or
+ * vpl (media over 1e4 mean free paths across). Writes one line per limit (naming the scene file and the field, '\n'-terminated)
+ * into `message` (NULL or size 0: none written; truncated to size) and returns how many (0: none).
+ * These renders still run (the CLI prints each line as a warning); vbl_render refuses only
+ * beams.radius0 below 1e-4 x the media's size (VBL_ERROR_INVALID_ARGUMENT). */
+VBL_API int vbl_render_limits(const vbl_scene* scene, const vbl_render_options* options, char* message,
+                              size_t size);
+
 /* Inside the pass callback only: a film of the passes completed so far (what vbl_render would
  * return if it stopped now), e.g. to write a checkpoint without stopping. Release it. */
 VBL_API vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film);

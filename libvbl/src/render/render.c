@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "film/film.h"
 #include "render/render_internal.h"
+#include "render/render_limits.h"
 #include "sampling/sobol.h"
 #include "transport/common/estimator.h"
 #include "transport/path_tracing/pt.h"
@@ -197,6 +198,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_result r = vbl_render_validate(scene, options);
     if (r) return r;
     if (!out_film || !est) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
+    if ((r = vbl_limits_check_radius(scene, options, est->name))) return r;
     if (scene->has_emission && !vbl_estimator_renders_emission(est))
         return vbl_error(VBL_ERROR_UNSUPPORTED,
                          "%s: the scene has emissive media, which estimator '%s' does not render (pt, vpl, vrl, vbl "
