@@ -64,6 +64,7 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
     load.camera = args->camera;
     load.width = args->width;
     load.height = args->height;
+    load.cancel = vbl_render_cancel_pointer(); /* SIGINT/SIGTERM while loading media */
     vbl_render_output_scene_load_options(output, &load);
     vbl_scene* scene = NULL;
     r = vbl_scene_load_ex(args->scene_path, &load, &scene);

@@ -60,10 +60,14 @@ typedef struct vbl_scene_load_options {
     const char* camera;
     int width;                      /* > 0: image width instead of the camera's */
     int height;                     /* > 0: image height instead of the camera's */
+    /* Non-NULL: *cancel != 0 stops the load before the next medium or at the next step of a
+     * volume load (vbl_volume_load_options.cancel): VBL_ERROR_INTERRUPTED. */
+    const volatile int* cancel;
 } vbl_scene_load_options;
 
-/* The initializer of vbl_scene_load_options: size set, no overrides, no colour hook, no frame. */
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0}
+/* The initializer of vbl_scene_load_options: size set, no overrides, no colour hook, no frame,
+ * no cancel flag. */
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0, NULL}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
