@@ -120,13 +120,13 @@ int main(int argc, char** argv)
                 double s1[V_COUNT] = {0}, s2[V_COUNT] = {0}, mx = 0.0;
                 for (int r = 0; r < R; ++r) {
                     vbl_rng rng = vbl_rng_make(11, (uint32_t)r, (uint64_t)p);
-                    vbl_transmittance_cache cache;
-                    double u0, u1, x[V_COUNT] = {0};
-                    if (vbl_vrl_camera_cache(&ctx, store, &ts, org, dir, INFINITY, &rng, &cache, &u0, &u1)) {
+                    vbl_vrl_camera cam;
+                    double x[V_COUNT] = {0};
+                    if (vbl_vrl_camera_cache(&ctx, store, &ts, org, dir, INFINITY, &rng, &cam)) {
                         for (size_t j = 0; j < ph->vrl_count; ++j) {
                             if (M >= 0 && ph->vrls[j].bounce + 2 > M) continue;
                             vbl_vrl_factors f;
-                            if (!vbl_vrl_sample_factors(&ctx, store, &ts, j, org, dir, u0, u1, &cache, &rng, &f)) continue;
+                            if (!vbl_vrl_sample_factors(&ctx, store, &ts, j, &cam, &rng, &f)) continue;
                             if (!(f.f > 0.0)) continue;
                             double base = f.f * f.tl / (f.w2 * f.pdf);
                             x[V_FULL] += base * f.tc * f.tw;

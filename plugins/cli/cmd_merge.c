@@ -162,10 +162,22 @@ typedef struct vbl_merge_out_layer {
     int half;
 } vbl_merge_out_layer;
 
+/* What the merged file's header says about its passes (vbl:passes, vbl:first_pass, ...). */
+typedef struct vbl_merge_summary {
+    int total_passes, first_pass, last_pass, requested;
+    const char* status;      /* "complete" or "partial" */
+    double seconds;          /* summed render time */
+    const char* color_space; /* the inputs' output colour space, or NULL */
+} vbl_merge_summary;
+
 static int vbl_merge_write(const char* out_path, const vbl_merge_input* in, int count, float** planes,
-                           const vbl_exr_image* first, int total_passes, int first_pass, int last_pass,
-                           int requested, const char* status, double seconds, const char* color_space)
+                           const vbl_exr_image* first, const vbl_merge_summary* summary)
 {
+    const int total_passes = summary->total_passes, first_pass = summary->first_pass;
+    const int last_pass = summary->last_pass, requested = summary->requested;
+    const char* status = summary->status;
+    const double seconds = summary->seconds;
+    const char* color_space = summary->color_space;
     const int w = vbl_exr_image_width(first), h = vbl_exr_image_height(first);
     const size_t n = (size_t)w * (size_t)h;
     const int channel_count = vbl_exr_image_channel_count(first);
@@ -462,8 +474,9 @@ int vbl_cmd_merge(int argc, char** argv)
     }
     if (code == VBL_EXIT_OK) {
         const char* status = gaps || !complete ? "partial" : "complete";
-        code = vbl_merge_write(out_path, in, count, planes, in[0].image, (int)total, first_pass, last, (int)requested,
-                               status, seconds, color_space[0] ? color_space : NULL);
+        const vbl_merge_summary summary = {(int)total, first_pass, last, (int)requested, status, seconds,
+                                           color_space[0] ? color_space : NULL};
+        code = vbl_merge_write(out_path, in, count, planes, in[0].image, &summary);
         if (code == VBL_EXIT_OK && !quiet)
             fprintf(stderr, "vbl merge: wrote %s (%lld passes from %d files, passes %d-%d%s)\n", out_path,
                     (long long)total, count, first_pass, last, gaps ? ", with gaps" : "");

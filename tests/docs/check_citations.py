@@ -3,17 +3,17 @@
 ("Novak et al. 2012 (VRL), section 4.1, eq. 9"), never as a file path: the paper files
 (virtual-ray-lights.txt, ../shared/papers/...) are not part of the repository.
 
-Scans the C/C++/Python/CMake/shell sources under SOURCE_DIR (not build trees, not docs/) and
-fails, naming file and line, on a `.txt` name that looks like a paper file: a hyphenated name
+Scans the C/C++/Python/CMake/shell sources and the Markdown pages (docs/, README.md) under
+SOURCE_DIR (not build trees) and fails, naming file and line, on a `.txt` name that looks like a paper file: a hyphenated name
 (`some-paper-title.txt`) that is not a file of the repository, or any path through a `papers/`
 folder. Usage: check_citations.py SOURCE_DIR."""
 import os
 import re
 import sys
 
-SOURCES = (".c", ".h", ".cc", ".cpp", ".in", ".py", ".sh", ".cmake")
+SOURCES = (".c", ".h", ".cc", ".cpp", ".in", ".py", ".sh", ".cmake", ".md")
 PAPER = re.compile(r"(?:[\w.-]*/)?papers/[\w.-]+\.txt|\b[a-z0-9]+(?:-[a-z0-9]+)+\.txt\b")
-SKIP_DIRS = {".git", "docs", "__pycache__"}
+SKIP_DIRS = {".git", "__pycache__"}
 
 
 def sources(root):
@@ -31,6 +31,8 @@ def main(root):
         names.update(files)
     found, scanned = [], 0
     for path in sources(root):
+        if os.path.abspath(path) == os.path.abspath(__file__):
+            continue  # this script's own examples
         scanned += 1
         with open(path, encoding="utf-8", errors="replace") as f:
             for number, line in enumerate(f, 1):

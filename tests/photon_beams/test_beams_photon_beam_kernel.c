@@ -102,8 +102,9 @@ static void test_collimated_bundle(void** state)
             double est = 0.0;
             for (int b = 0; b < n; ++b) {
                 double rr = a * sqrt(vbl_rng_uniform(&rng)), ph = 2 * VBL_PI * vbl_rng_uniform(&rng);
-                est += vbl_photon_beam_estimate(vbl_v3(xs, y0, z0), vbl_v3(1, 0, 0), 3.0, vbl_v3(rr * cos(ph), rr * sin(ph), 0),
-                                                vbl_v3(0, 0, 1), 2.0, rs[k], phi / n, sig_s, g, tr, &m);
+                const vbl_segment cam = vbl_segment_make(vbl_v3(xs, y0, z0), vbl_v3(1, 0, 0), 0.0, 3.0);
+                const vbl_segment beam = vbl_segment_make(vbl_v3(rr * cos(ph), rr * sin(ph), 0), vbl_v3(0, 0, 1), 0.0, 2.0);
+                est += vbl_photon_beam_estimate(&cam, &beam, rs[k], phi / n, sig_s, g, tr, &m);
             }
             vbl_mean_add(&acc, est);
         }
@@ -132,8 +133,9 @@ static void test_parallel_finite(void** state)
                 assert_true(isfinite(e.weight) && e.weight >= 0.0 && isfinite(e.t_c) && isfinite(e.t_b));
                 assert_true(e.weight <= (15.0 / 16.0) * len_c / (2 * r * r) * (1 + 1e-12));
                 assert_true(e.t_c >= 0.0 && e.t_c <= len_c && e.t_b >= 0.0 && e.t_b <= 3.0);
-                double est = vbl_photon_beam_estimate(vbl_v3(0, 0, 0), vbl_v3(1, 0, 0), len_c, vbl_v3(-1, offs[j], 0), bd, 3.0, r,
-                                                      1.0, 1.0, 0.999 * sgn, NULL, NULL);
+                const vbl_segment cam = vbl_segment_make(vbl_v3(0, 0, 0), vbl_v3(1, 0, 0), 0.0, len_c);
+                const vbl_segment beam = vbl_segment_make(vbl_v3(-1, offs[j], 0), bd, 0.0, 3.0);
+                double est = vbl_photon_beam_estimate(&cam, &beam, r, 1.0, 1.0, 0.999 * sgn, NULL, NULL);
                 assert_true(isfinite(est) && est >= 0.0);
             }
     /* no support: zero lengths, zero width */

@@ -263,8 +263,8 @@ static void test_vrl_tree_build_stops(void** state)
     assert_int_equal(tree.light_count, N);
     vbl_vrl_tree_free(&tree);
     g_stop_calls = 0;
-    assert_int_equal(vbl_vrl_tree_build_stoppable(&tree, vrls, N, -1, 1e-3, 0.0, NULL, NULL, stop_after_first, NULL),
-                     VBL_ERROR_INTERRUPTED);
+    const vbl_vrl_tree_stop_hook hook = {stop_after_first, NULL};
+    assert_int_equal(vbl_vrl_tree_build_stoppable(&tree, vrls, N, -1, 1e-3, 0.0, NULL, NULL, &hook), VBL_ERROR_INTERRUPTED);
     assert_int_equal(g_stop_calls, 2);
     assert_null(tree.nodes);
     assert_null(tree.pieces);

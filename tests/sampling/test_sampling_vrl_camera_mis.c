@@ -37,8 +37,9 @@ static const double kY[] = {1.0, 0.6, 0.3, 0.1, 0.01, 1e-4};
 static void setup(int i, vbl_vrl_pair* p, vbl_step_pdf* s)
 {
     const geom* g = &kGeoms[i];
-    assert_true(vbl_vrl_pair_init(p, vbl_v3(0, 0, 0), vbl_v3(1, 0, 0), 0.2, 3.0, g->l_o, vbl_v3_normalize(g->l_d),
-                                  g->v0, g->v1, g->gc, g->gl));
+    const vbl_segment camera = vbl_segment_make(vbl_v3(0, 0, 0), vbl_v3(1, 0, 0), 0.2, 3.0);
+    const vbl_segment light = vbl_segment_make(g->l_o, vbl_v3_normalize(g->l_d), g->v0, g->v1);
+    assert_true(vbl_vrl_pair_init(p, &camera, &light, g->gc, g->gl));
     assert_true(vbl_step_pdf_init(s, kX, kY, 6, 0.0));
 }
 

@@ -45,9 +45,15 @@ static geom geoms(int i)
 static const double kGPairs[][2] = {{0.0, 0.0}, {0.9, 0.9}, {-0.5, 0.8}, {0.999, -0.999}, {0.3, 0.0}};
 #define NGP ((int)(sizeof kGPairs / sizeof kGPairs[0]))
 
+/* The camera segment of geometry g over [a, b] and a VRL segment, as pointers to temporaries. */
+#define CAM(g, a, b) (&(vbl_segment){(g).c_o, (g).c_d, (a), (b)})
+#define SEG(o, d, a, b) (&(vbl_segment){(o), (d), (a), (b)})
+
 static int init_pair(vbl_vrl_pair* p, const geom* g, double gc, double gl)
 {
-    return vbl_vrl_pair_init(p, g->c_o, g->c_d, g->u0, g->u1, g->l_o, g->l_d, g->v0, g->v1, gc, gl);
+    const vbl_segment camera = vbl_segment_make(g->c_o, g->c_d, g->u0, g->u1);
+    const vbl_segment light = vbl_segment_make(g->l_o, g->l_d, g->v0, g->v1);
+    return vbl_vrl_pair_init(p, &camera, &light, gc, gl);
 }
 
 /* ---- quadrature helpers over the pdf ---- */
@@ -283,7 +289,7 @@ static void test_vrl_pair_isotropic_is_analytic(void** state)
         vbl_vec3 r0 = vbl_v3_sub(vbl_v3_madd(g.c_o, g.c_d, g.u0), x);
         double ratio = vbl_vrl_pair_conditional_pdf(&p, s.v, s.u) / vbl_vrl_pair_conditional_pdf(&p, s.v, g.u0);
         assert_true(fabs(ratio - vbl_v3_dot(r0, r0) / vbl_v3_dot(r, r)) < 1e-10 * ratio);
-        assert_true(fabs(s.pdf - vbl_vrl_pair_pdf(g.c_o, g.c_d, g.u0, g.u1, g.l_o, g.l_d, g.v0, g.v1, 0.0, 0.0, s.u, s.v)) <
+        assert_true(fabs(s.pdf - vbl_vrl_pair_pdf(CAM(g, g.u0, g.u1), SEG(g.l_o, g.l_d, g.v0, g.v1), 0.0, 0.0, s.u, s.v)) <
                     1e-12 * s.pdf);
     }
 }
@@ -299,7 +305,7 @@ static void test_vrl_pair_extremes(void** state)
             for (size_t a = 0; a < sizeof xs / sizeof xs[0]; ++a) {
                 for (size_t b = 0; b < sizeof xs / sizeof xs[0]; ++b) {
                     vbl_vrl_pair_sample s;
-                    int r = vbl_vrl_pair_sample_draw(g.c_o, g.c_d, g.u0, g.u1, g.l_o, g.l_d, g.v0, g.v1, gs[k][0], gs[k][1],
+                    int r = vbl_vrl_pair_sample_draw(CAM(g, g.u0, g.u1), SEG(g.l_o, g.l_d, g.v0, g.v1), gs[k][0], gs[k][1],
                                                      xs[a], xs[b], &s);
                     assert_int_equal(r, 1);
                     assert_true(isfinite(s.u) && isfinite(s.v) && isfinite(s.pdf) && s.pdf > 0.0);
@@ -311,14 +317,14 @@ static void test_vrl_pair_extremes(void** state)
     /* Zero-length segments have no support. */
     vbl_vrl_pair_sample s;
     geom g = geoms(0);
-    assert_int_equal(vbl_vrl_pair_sample_draw(g.c_o, g.c_d, 1.0, 1.0, g.l_o, g.l_d, g.v0, g.v1, 0.5, 0.5, 0.3, 0.3, &s), 0);
+    assert_int_equal(vbl_vrl_pair_sample_draw(CAM(g, 1.0, 1.0), SEG(g.l_o, g.l_d, g.v0, g.v1), 0.5, 0.5, 0.3, 0.3, &s), 0);
     assert_true(s.pdf == 0.0);
-    assert_int_equal(vbl_vrl_pair_sample_draw(g.c_o, g.c_d, g.u0, g.u1, g.l_o, g.l_d, 2.0, 2.0, 0.0, 0.0, 0.3, 0.3, &s), 0);
-    assert_true(vbl_vrl_pair_pdf(g.c_o, g.c_d, g.u0, g.u1, g.l_o, g.l_d, 2.0, 2.0, 0.0, 0.0, 1.0, 2.0) == 0.0);
+    assert_int_equal(vbl_vrl_pair_sample_draw(CAM(g, g.u0, g.u1), SEG(g.l_o, g.l_d, 2.0, 2.0), 0.0, 0.0, 0.3, 0.3, &s), 0);
+    assert_true(vbl_vrl_pair_pdf(CAM(g, g.u0, g.u1), SEG(g.l_o, g.l_d, 2.0, 2.0), 0.0, 0.0, 1.0, 2.0) == 0.0);
     /* VRL starting exactly on the camera ray (crossing at the segment end). */
     vbl_vec3 lo = vbl_v3(1.0, 0.0, 0.0);
     for (size_t a = 0; a < sizeof xs / sizeof xs[0]; ++a) {
-        assert_int_equal(vbl_vrl_pair_sample_draw(g.c_o, g.c_d, g.u0, g.u1, lo, vbl_v3(0, 0, 1), 0.0, 1.0, 0.7, 0.7, xs[a],
+        assert_int_equal(vbl_vrl_pair_sample_draw(CAM(g, g.u0, g.u1), SEG(lo, vbl_v3(0, 0, 1), 0.0, 1.0), 0.7, 0.7, xs[a],
                                                   xs[a], &s), 1);
         assert_true(isfinite(s.pdf) && s.pdf > 0.0);
     }

@@ -152,8 +152,9 @@ static void test_vbl_estimator_vs_quadrature(void** state)
             vbl_rng rng = vbl_rng_make(4048, (uint64_t)mi, (uint64_t)c);
             for (int i = 0; i < 8000; ++i) {
                 double xi = vbl_rng_uniform(&rng);
-                double j[3] = {vbl_rng_uniform(&rng), vbl_rng_uniform(&rng), vbl_rng_uniform(&rng)};
-                vbl_vec3 e = vbl_surface_from_vbl(&sp, &vrl, radius, st_medium_fn, &r.medium, xi, 4, j, NULL, NULL);
+                vbl_surface_kernel kernel = {radius, 4, {0.0, 0.0, 0.0}};
+                for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(&rng);
+                vbl_vec3 e = vbl_surface_from_vbl(&sp, &vrl, &kernel, st_medium_fn, &r.medium, xi, NULL, NULL);
                 assert_true(st_finite3(e) && st_nonneg3(e));
                 vbl_mean_add(&acc, st_mean3(e));
             }
@@ -269,10 +270,10 @@ static void test_extremes_finite(void** state)
                         vbl_rng rng = vbl_rng_make(5, (uint64_t)(mi * 100 + wi * 10 + c), (uint64_t)(gi * 3 + ri));
                         for (int i = 0; i < 50; ++i) {
                             double xi = i == 0 ? 0.0 : (i == 1 ? 1.0 - 1e-16 : vbl_rng_uniform(&rng));
-                            double j[3] = {vbl_rng_uniform(&rng), vbl_rng_uniform(&rng), vbl_rng_uniform(&rng)};
+                            vbl_surface_kernel kernel = {radii[ri], 8, {0.0, 0.0, 0.0}};
+                            for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(&rng);
                             double pdf = -1.0;
-                            vbl_vec3 e = vbl_surface_from_vbl(&sp, &vrl, radii[ri], st_medium_fn, &med, xi, 8, j,
-                                                              NULL, &pdf);
+                            vbl_vec3 e = vbl_surface_from_vbl(&sp, &vrl, &kernel, st_medium_fn, &med, xi, NULL, &pdf);
                             assert_true(st_finite3(e) && st_nonneg3(e));
                             assert_true(isfinite(pdf) && pdf >= 0.0);
                         }

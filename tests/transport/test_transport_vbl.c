@@ -303,7 +303,7 @@ static void test_zero_radius_matches_vrl(void** state)
     vt_free(vol);
 }
 
-/* The optical radius's options reach the settings: vbl_radius_mfp (0: the default) and
+/* The optical radius's options reach the settings: vbl_radius_mfp (default 1) and
  * vbl_kernel_tolerance; out-of-range values are refused. */
 static void test_optical_radius_options(void** state)
 {

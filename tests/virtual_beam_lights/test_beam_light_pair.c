@@ -538,7 +538,8 @@ static void test_vbl_lower_variance_than_vrl(void** state)
         vbl_vrl_pair pr;
         vbl_vrl_pair_sample sr;
         double er = 0.0, eb = 0.0;
-        vbl_vrl_pair_init(&pr, c_o, c_d, 0.0, 3.0, lo, ld, 0.0, 1.0, g, g);
+        const vbl_segment camera = vbl_segment_make(c_o, c_d, 0.0, 3.0), light = vbl_segment_make(lo, ld, 0.0, 1.0);
+        vbl_vrl_pair_init(&pr, &camera, &light, g, g);
         if (vbl_vrl_pair_draw(&pr, x1, x2, &sr)) er = vbl_vrl_pair_phase_geometry(&pr, sr.u, sr.v) / sr.pdf;
         vbl_beam_light_pair pb;
         vbl_beam_light_pair_sample sb;

@@ -26,12 +26,14 @@ extern "C" {
  * loading, reference counted; share it between threads and renders. */
 typedef struct vbl_scene vbl_scene;
 
+/* Options of vbl_scene_load_ex: VDB path overrides, the colour hook, the frame of a VDB
+ * sequence and shot overrides (camera, image size). Start from VBL_SCENE_LOAD_OPTIONS_DEFAULT. */
 typedef struct vbl_scene_load_options {
     size_t size;                    /* sizeof(vbl_scene_load_options) */
     /* Replaces media[i].vdb for i < vdb_override_count (NULL entries keep the scene's path).
      * Override paths are used as given (relative to the working directory). */
     const char* const* vdb_overrides;
-    int vdb_override_count;
+    int vdb_override_count;         /* entries in vdb_overrides */
     /* Scene colours in a named input space. When the scene has a top-level "color_space", this
      * is called at load for every light colour (intensity / irradiance / radiance) and every
      * medium albedo, before their range checks, with the scene's colour space name, the field
@@ -43,25 +45,28 @@ typedef struct vbl_scene_load_options {
      * A converted albedo outside [0, 1] fails the load (VBL_ERROR_SCENE), naming the field and
      * the converted value; it is never clamped. */
     vbl_result (*convert_color)(void* user, const char* color_space, const char* field, double rgb[3]);
-    void* convert_color_user;
+    void* convert_color_user;       /* passed to convert_color as `user` */
     /* VDB sequences: with use_frame = 1, frame patterns in media[i].vdb (and in the overrides)
      * are replaced by `frame`: a run of N '#' -> the frame zero-padded to N digits
      * ("smoke.####.vdb" -> "smoke.0007.vdb"), "%04d" / "%d" printf-style. A pattern with
      * use_frame = 0 fails the load (VBL_ERROR_SCENE); a missing frame file fails with
      * VBL_ERROR_FILE_NOT_FOUND naming the field, the frame and the file. */
     int frame;
-    int use_frame;
+    int use_frame;                  /* 1: substitute `frame` into frame patterns */
     /* Shot overrides (docs/readme/render.md, "Camera"). camera: NULL, or the name of an entry of
      * the scene's "cameras", else a JSON file holding a camera object (or {"camera": {...}});
      * neither: VBL_ERROR_FILE_NOT_FOUND. width, height > 0: the image size instead of the
      * camera's resolution (the lens keeps its vertical fov, or its focal length, sensor and fit). */
     const char* camera;
-    int width, height;
+    int width;                      /* > 0: image width instead of the camera's */
+    int height;                     /* > 0: image height instead of the camera's */
     /* Non-NULL: *cancel != 0 stops the load before the next medium or at the next step of a
      * volume load (vbl_volume_load_options.cancel): VBL_ERROR_INTERRUPTED. */
     const volatile int* cancel;
 } vbl_scene_load_options;
 
+/* The initializer of vbl_scene_load_options: size set, no overrides, no colour hook, no frame,
+ * no cancel flag. */
 #define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0, NULL}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
@@ -69,6 +74,8 @@ typedef struct vbl_scene_load_options {
  * "scene.json: media[0].phase.g = 1.2 is outside (-1, 1)" (VBL_ERROR_SCENE), or pass on the
  * volume loader's result (VBL_ERROR_FILE_NOT_FOUND, ...) prefixed with the field. */
 VBL_API vbl_result vbl_scene_load(const char* path, vbl_scene** out_scene);
+/* vbl_scene_load with options (NULL: the defaults). options->size may be that of an older,
+ * shorter struct (the fields after it take their defaults). */
 VBL_API vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options,
                                      vbl_scene** out_scene);
 /* Frame patterns of VDB sequences and output paths: a run of N '#' is the frame zero-padded to N
@@ -77,14 +84,22 @@ VBL_API vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_opti
  * `vbl` command to its output paths. has_pattern: 1 if `path` holds a pattern. format: 0 on
  * success, -1 when the result does not fit in out[size] or another '%' conversion is used. */
 VBL_API int vbl_frame_path_has_pattern(const char* path);
+/* Writes `pattern` with `frame` substituted into out[size] (see vbl_frame_path_has_pattern). */
 VBL_API int vbl_frame_path_format(const char* pattern, int frame, char* out, size_t size);
 
+/* Adds a reference (thread-safe; NULL is ignored). */
 VBL_API void vbl_scene_retain(vbl_scene* scene);
+/* Drops a reference; the last one frees the scene and its volumes (NULL is ignored). */
 VBL_API void vbl_scene_release(vbl_scene* scene);
 
+/* The scene file's path as given to vbl_scene_load. */
 VBL_API const char* vbl_scene_path(const vbl_scene* scene);
+/* The image size the scene renders at (the camera's resolution, or the load options' width and
+ * height); 0 x 0 for NULL. Either pointer may be NULL. */
 VBL_API void vbl_scene_resolution(const vbl_scene* scene, int* width, int* height);
+/* Number of lights in the scene file (0 for NULL). */
 VBL_API int vbl_scene_light_count(const vbl_scene* scene);
+/* Number of media (0 for NULL). */
 VBL_API int vbl_scene_medium_count(const vbl_scene* scene);
 /* 1 if some medium emits light (fire): the scene is lit even without lights. */
 VBL_API int vbl_scene_has_emission(const vbl_scene* scene);
@@ -106,6 +121,7 @@ VBL_API vbl_result vbl_scene_camera_matrices(const vbl_scene* scene, double worl
 
 /* "pt", "vpl", "vrl", "vbl", "beams"; parse returns VBL_ERROR_INVALID_ARGUMENT for unknown names. */
 VBL_API const char* vbl_render_method_name(vbl_render_method method);
+/* The method named `name` into *out (see vbl_render_method_name). */
 VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out);
 
 /* Fills `options` (size set by the caller) with the scene's `render` block (defaults for
@@ -121,29 +137,37 @@ VBL_API vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_o
  * are present. */
 typedef struct vbl_film vbl_film;
 
+/* Adds a reference (thread-safe; NULL is ignored). */
 VBL_API void vbl_film_retain(vbl_film* film);
+/* Drops a reference; the last one frees the film (NULL is ignored). */
 VBL_API void vbl_film_release(vbl_film* film);
+/* Image width in pixels (0 for NULL). */
 VBL_API int vbl_film_width(const vbl_film* film);
+/* Image height in pixels (0 for NULL). */
 VBL_API int vbl_film_height(const vbl_film* film);
+/* Number of layers (0 for NULL). */
 VBL_API int vbl_film_layer_count(const vbl_film* film);
+/* Name of layer `index` in [0, vbl_film_layer_count) ("" is the beauty), NULL out of range. */
 VBL_API const char* vbl_film_layer_name(const vbl_film* film, int index);
 /* Channel names of a layer: "R","G","B"[,"A"] or "Z" / "Y". */
 VBL_API int vbl_film_layer_channel_count(const vbl_film* film, const char* name);
+/* Name of channel `channel` of layer `name`, NULL if there is no such layer or channel. */
 VBL_API const char* vbl_film_layer_channel_name(const vbl_film* film, const char* name, int channel);
 /* Pixels of a layer (NULL if the film has no such layer); *channels receives the count. */
 VBL_API const float* vbl_film_layer(const vbl_film* film, const char* name, int* channels);
 /* Convenience: the layer if it has 3 channels (R,G,B), else NULL. */
 VBL_API const float* vbl_film_layer_rgb(const vbl_film* film, const char* name);
 
+/* How a film was rendered (vbl_film_get_stats). */
 typedef struct vbl_film_stats {
     size_t size;                  /* sizeof(vbl_film_stats) */
-    vbl_render_method method;
+    vbl_render_method method;     /* the rendering method */
     int passes;                   /* passes completed */
     int spp;                      /* camera samples per pixel per pass */
-    int light_paths;
-    uint64_t seed;
+    int light_paths;              /* light paths per pass as rendered (0 in options: the method's default) */
+    uint64_t seed;                /* the render's seed */
     int threads;                  /* threads used */
-    double render_seconds;
+    double render_seconds;        /* wall-clock time of the render (summed over light groups) */
     int cancelled;                /* 1: stopped by the callback */
     int time_limited;             /* 1: stopped by time_limit */
     int first_pass;               /* absolute index of the first pass in this film */

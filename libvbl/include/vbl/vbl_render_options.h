@@ -30,9 +30,10 @@ typedef enum vbl_render_method {
     VBL_RENDER_BEAMS = 4 /* progressive photon beams (beam x beam 1D, progressive width) */
 } vbl_render_method;
 
+/* Multiple importance sampling heuristic of pt's light and phase samples (render.mis). */
 typedef enum vbl_mis_heuristic {
     VBL_MIS_POWER = 0,   /* power heuristic, beta = 2 (default) */
-    VBL_MIS_BALANCE = 1
+    VBL_MIS_BALANCE = 1  /* balance heuristic */
 } vbl_mis_heuristic;
 
 /* vbl's volume_direct (render.vbl.single_scattering). */
@@ -76,10 +77,13 @@ typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_MARCH = 1  /* ray marching (biased) */
 } vbl_vrl_connect;
 
+/* blue_noise: virtual lights per pass when render.vsl_lights is 0. */
 #define VBL_VSL_LIGHTS_DEFAULT 1024
 /* light_paths = 0: the method's default (vbl_render_options_light_paths). */
 #define VBL_LIGHT_PATHS_DEFAULT 10000
+/* vrl's default light paths per pass (each traces VRLs, which cost more than points). */
 #define VBL_LIGHT_PATHS_DEFAULT_VRL 10
+/* vbl's default light paths per pass. */
 #define VBL_LIGHT_PATHS_DEFAULT_VBL 10
 
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
@@ -93,6 +97,8 @@ typedef struct vbl_render_progress {
     const void* driver;     /* opaque: for vbl_render_snapshot inside the callback */
 } vbl_render_progress;
 
+/* The per-pass callback (options.callback, with options.callback_user_data): called by vbl_render
+ * after every completed pass, between passes; non-zero stops the render after that pass. */
 typedef int (*vbl_render_pass_callback)(const vbl_render_progress* progress, void* user_data);
 
 /* ---- the table ------------------------------------------------------------------------- */
@@ -237,10 +243,10 @@ typedef enum vbl_render_option_effect {
       "vbl.single_scattering", "--vbl-single-scattering", VBL_SINGLE_SCATTERING_DEFAULT, 0, 2,               \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, "default|equiangular|beams", HASH,                   \
       "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")                 \
-    X(beam_lights., vbl_radius_mfp, radius_mfp, double, DOUBLE, "vbl.radius_mfp", "--vbl-radius-mfp", 0.0, 0, \
-      INFINITY, VBL_OPTION_ZERO_DEFAULT, NULL, HASH,                                                         \
+    X(beam_lights., vbl_radius_mfp, radius_mfp, double, DOUBLE, "vbl.radius_mfp", "--vbl-radius-mfp", 1.0, 0, \
+      INFINITY, VBL_OPTION_MIN_OPEN, NULL, HASH,                                                         \
       "vbl: VSL radius cap in mean free paths at the VSL, R = min(R_world, f / sigma_t(x)), shrunk per pass " \
-      "like R_world (default 0: 1; 1e30: world units only)")                                              \
+      "like R_world (1e30: world units only)")                                              \
     X(beam_lights., vbl_kernel_tolerance, kernel_tolerance, double, DOUBLE, "vbl.kernel_tolerance",          \
       "--vbl-kernel-tolerance", 0.01, 0, 1, 0, NULL, HASH,                                                   \
       "vbl: relative error bound of the thin-cone VSL kernel (the VRL kernel where R/w is small; 0: always " \
@@ -281,7 +287,9 @@ typedef enum vbl_render_option_effect {
 
 /* ---- the structs, generated ------------------------------------------------------------ */
 
+/* X-macro column picker (internal): one table row -> one struct field `ctype member;`. */
 #define VBL_RENDER_OPTION_FIELD_(prefix, name, member, ctype, ...) ctype member;
+/* X-macro column picker (internal): one plain (not reflected) row -> one struct field. */
 #define VBL_RENDER_PLAIN_FIELD_(prefix, member, ctype, def) ctype member;
 typedef struct vbl_pt_options {
     VBL_RENDER_OPTIONS_PT(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
@@ -302,20 +310,25 @@ typedef struct vbl_vsl_options {
     VBL_RENDER_OPTIONS_VSL(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
 } vbl_vsl_options;
 
+/* Everything a render takes: the common options (one field per row of
+ * VBL_RENDER_OPTIONS_COMMON) and one nested struct per method group, generated from the table
+ * above. Start from VBL_RENDER_OPTIONS_DEFAULT or vbl_render_options_init. */
 typedef struct vbl_render_options {
     size_t size; /* sizeof(vbl_render_options) */
     VBL_RENDER_OPTIONS_COMMON(VBL_RENDER_OPTION_FIELD_, VBL_RENDER_PLAIN_FIELD_)
-    vbl_pt_options pt;
-    vbl_vpl_options vpl;
-    vbl_vrl_options vrl;
+    vbl_pt_options pt;                  /* method pt (VBL_RENDER_OPTIONS_PT) */
+    vbl_vpl_options vpl;                /* method vpl (VBL_RENDER_OPTIONS_VPL) */
+    vbl_vrl_options vrl;                /* method vrl, and vbl's VRLs (VBL_RENDER_OPTIONS_VRL) */
     vbl_beam_light_options beam_lights; /* method vbl */
     vbl_photon_beam_options beams;      /* method beams */
-    vbl_vsl_options vsl;
+    vbl_vsl_options vsl;                /* surface VSLs of vpl/vrl/vbl (VBL_RENDER_OPTIONS_VSL) */
 } vbl_render_options;
 
 /* Designated initializer of the table's defaults:  vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT; */
 #define VBL_RENDER_OPTION_INIT_(prefix, name, member, ctype, type, key, flag, def, ...) , .prefix member = (def)
+/* X-macro column picker (internal): one plain row -> its designated initializer. */
 #define VBL_RENDER_PLAIN_INIT_(prefix, member, ctype, def) , .prefix member = (def)
+/* The defaults of every option (the table's default column), as an initializer. */
 #define VBL_RENDER_OPTIONS_DEFAULT \
     {.size = sizeof(vbl_render_options) VBL_RENDER_OPTION_LIST(VBL_RENDER_OPTION_INIT_, VBL_RENDER_PLAIN_INIT_)}
 
@@ -327,20 +340,23 @@ VBL_API vbl_result vbl_render_options_validate(const vbl_render_options* options
 
 /* ---- reflection (bindings, tools, docs) ------------------------------------------------ */
 
+/* One row of the options table as data (vbl_render_option_desc): what bindings, the CLI and
+ * the documentation generator read instead of mirroring the struct. */
 typedef struct vbl_render_option_info {
     const char* name;      /* the option's name: "vbl_alpha" (the field options.beam_lights.alpha) */
     const char* key;       /* scene file key under "render": "vbl.alpha"; NULL: not in scene files */
     const char* flag;      /* `vbl render` flag: "--vbl-alpha"; NULL: none */
-    vbl_render_option_type type;
+    vbl_render_option_type type; /* value type */
     const char* type_name; /* "int", "uint64", "double", "bool", "enum" */
     double default_value;  /* the default as a number (enum: its index) */
     double min, max;       /* range (enum: 0 .. choices - 1) */
     unsigned flags;        /* VBL_OPTION_* above */
     const char* choices;   /* enum: "pt|vpl|vrl|vbl|beams", else NULL */
-    vbl_render_option_effect effect;
-    const char* help;
+    vbl_render_option_effect effect; /* what it does to the pixels (and to merging) */
+    const char* help;      /* one-line help text (the CLI's --help and the docs table) */
 } vbl_render_option_info;
 
+/* Number of rows in the options table. */
 VBL_API int vbl_render_option_count(void);
 /* The index-th option (0 .. count - 1) in table order; NULL out of range. */
 VBL_API const vbl_render_option_info* vbl_render_option_desc(int index);
@@ -369,7 +385,9 @@ VBL_API int vbl_render_options_light_paths(const vbl_render_options* options);
 
 /* Heap options for bindings that do not mirror the struct: created with the defaults. */
 VBL_API vbl_result vbl_render_options_create(vbl_render_options** out_options);
+/* Frees options made by vbl_render_options_create (NULL is ignored). */
 VBL_API void vbl_render_options_destroy(vbl_render_options* options);
+/* Sets options->callback and its user_data (for bindings that cannot write function pointers). */
 VBL_API void vbl_render_options_set_callback(vbl_render_options* options, vbl_render_pass_callback callback,
                                              void* user_data);
 

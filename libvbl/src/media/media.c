@@ -31,12 +31,9 @@ int vbl_media_scatter(const vbl_scene* scene, const double* component_sigma_t, d
 {
     vbl_medium_point mp;
     vbl_medium_point_from_components(scene, component_sigma_t, &mp);
-    double p = 0.0;
-    if (!vbl_medium_phase_sample(&mp, travel, u0, u1, u2, wi, &p)) return 0;
-    if (pdf) *pdf = p;
-    vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(travel, *wi));
-    *throughput = vbl_v3_scale(vbl_v3_mul(*throughput, kernel), 1.0 / (p * sigma_t));
-    return 1;
+    mp.sigma_t = sigma_t;
+    const double u[3] = {u0, u1, u2};
+    return vbl_medium_scatter(&mp, travel, u, wi, pdf, throughput);
 }
 
 double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t)

@@ -95,3 +95,34 @@ double vbl_medium_mean_g(const vbl_medium_point* mp)
     }
     return w > 0.0 ? g / w : 0.0;
 }
+
+void vbl_medium_point_scene(const vbl_scene* scene, vbl_medium_point* out)
+{
+    double scale[VBL_MAX_MEDIA] = {0};
+    for (int i = 0; i < scene->media_count && i < VBL_MAX_MEDIA; ++i) scale[i] = scene->media[i].density_scale;
+    vbl_medium_point_from_components(scene, scale, out);
+}
+
+int vbl_medium_free_flight(const vbl_scene* scene, const vbl_extinction* extinction, vbl_extinction_cursor* cursor,
+                           const vbl_segment* segment, int use_global_majorant, vbl_rng* rng, double* t,
+                           vbl_medium_point* out)
+{
+    double comps[VBL_MAX_MEDIA] = {0}, sigma_t = 0.0;
+    if (!vbl_free_flight_sample(extinction, cursor, segment->origin, segment->direction, segment->t0, segment->t1,
+                                use_global_majorant, rng, t, &sigma_t, comps))
+        return 0;
+    vbl_medium_point_from_components(scene, comps, out);
+    out->sigma_t = sigma_t; /* the tracker's own sum (what callers divided by before) */
+    return 1;
+}
+
+int vbl_medium_scatter(const vbl_medium_point* mp, vbl_vec3 travel, const double u[3], vbl_vec3* wi, double* pdf,
+                       vbl_vec3* throughput)
+{
+    double p = 0.0;
+    if (!vbl_medium_phase_sample(mp, travel, u[0], u[1], u[2], wi, &p)) return 0;
+    if (pdf) *pdf = p;
+    vbl_vec3 kernel = vbl_medium_phase_kernel(mp, vbl_v3_dot(travel, *wi));
+    *throughput = vbl_v3_scale(vbl_v3_mul(*throughput, kernel), 1.0 / (p * mp->sigma_t));
+    return 1;
+}

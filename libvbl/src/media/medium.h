@@ -10,20 +10,10 @@
 #define VBL_MEDIA_MEDIUM_H
 
 #include "core/math.h"
+#include "core/rng.h"
+#include "core/segment.h" /* vbl_segment */
 #include "scene/scene.h"
-
-/* A ray's parametric piece x(t) = origin + t direction, t in [t0, t1] (direction unit). */
-typedef struct vbl_segment {
-    vbl_vec3 origin, direction;
-    double t0, t1;
-} vbl_segment;
-
-static inline vbl_segment vbl_segment_make(vbl_vec3 origin, vbl_vec3 direction, double t0, double t1)
-{
-    vbl_segment s = {origin, direction, t0, t1};
-    return s;
-}
-static inline vbl_vec3 vbl_segment_at(const vbl_segment* s, double t) { return vbl_v3_madd(s->origin, s->direction, t); }
+#include "volume/transmittance.h"
 
 /* One medium's share at a point: its extinction, albedo and HG g (sigma_s = albedo sigma_t). */
 typedef struct vbl_phase_lobe {
@@ -67,5 +57,23 @@ static inline vbl_vec3 vbl_medium_lobe_weight(const vbl_medium_point* mp, int i)
 {
     return vbl_v3_madd(vbl_v3(0.0, 0.0, 0.0), mp->lobe[i].albedo, mp->lobe[i].sigma_t / mp->sigma_t);
 }
+
+/* The scene's media as lobes weighted by their density scales (sigma_t,i = density_scale_i): the
+ * phase mixture of a unit density of every medium, a point-independent sampling hint (the
+ * density-weighted mean g of vbl_medium_mean_g, the lobes of the surface samplers). */
+void vbl_medium_point_scene(const vbl_scene* scene, vbl_medium_point* out);
+
+/* Delta-tracking free flight along `segment` (vbl_free_flight_sample over [t0, t1]): returns 1
+ * with the collision distance *t and the medium there in *out (its sigma_t the tracker's own
+ * value), 0 if the ray passes t1 (out untouched). */
+int vbl_medium_free_flight(const vbl_scene* scene, const vbl_extinction* extinction, vbl_extinction_cursor* cursor,
+                           const vbl_segment* segment, int use_global_majorant, vbl_rng* rng, double* t,
+                           vbl_medium_point* out);
+
+/* A walk's scattering at a delta-tracking collision (mp->sigma_t > 0): samples *wi with
+ * vbl_medium_phase_sample from u[0..2] (its pdf into *pdf unless NULL) and multiplies *throughput
+ * by sigma_s p / (pdf sigma_t) (RGB). Returns 0 (throughput untouched) if nothing scatters here. */
+int vbl_medium_scatter(const vbl_medium_point* mp, vbl_vec3 travel, const double u[3], vbl_vec3* wi, double* pdf,
+                       vbl_vec3* throughput);
 
 #endif

@@ -53,7 +53,6 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     vbl_rng rng = vbl_rng_make(ctx->options.seed, ctx->pass, pixel_index);
     const int spp = ctx->options.spp;
     double pass_beauty[3] = {0.0, 0.0, 0.0};
-    double components[VBL_MAX_MEDIA];
     /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
     const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
     const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
@@ -88,9 +87,10 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
          * first collision or the surface hit, whichever comes first */
         if (ctx->extinction->count > 0 || surface_hit) {
             acc->alpha += surface_hit ? 1.0 : 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
-            double t = 0.0, sigma_t = 0.0;
-            if (ctx->extinction->count > 0 &&
-                vbl_ctx_free_flight(ctx, ts, cs.origin, cs.direction, cs.t_max, &rng, &t, &sigma_t, components)) {
+            double t = 0.0;
+            const vbl_segment ray = vbl_segment_make(cs.origin, cs.direction, 0.0, cs.t_max);
+            vbl_medium_point mp;
+            if (ctx->extinction->count > 0 && vbl_ctx_free_flight_medium(ctx, ts, &ray, &rng, &t, &mp)) {
                 acc->depth += t;
                 acc->depth_hits += 1.0;
             } else if (surface_hit) {

@@ -29,9 +29,11 @@ void vbl_vrl_line_projection(vbl_vec3 c_o, vbl_vec3 c_d, vbl_vec3 l_o, vbl_vec3 
     }
 }
 
-int vbl_vrl_pair_init(vbl_vrl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o,
-                      vbl_vec3 l_d, double v0, double v1, double g_camera, double g_light)
+int vbl_vrl_pair_init(vbl_vrl_pair* p, const vbl_segment* camera, const vbl_segment* light, double g_camera,
+                      double g_light)
 {
+    const vbl_vec3 c_o = camera->origin, c_d = camera->direction, l_o = light->origin, l_d = light->direction;
+    const double u0 = camera->t0, u1 = camera->t1, v0 = light->t0, v1 = light->t1;
     p->c_o = c_o;
     p->c_d = c_d;
     p->l_o = l_o;
@@ -194,20 +196,19 @@ double vbl_vrl_pair_density(const vbl_vrl_pair* p, double u, double v)
     return pv > 0.0 ? pv * vbl_vrl_pair_conditional_pdf(p, v, u) : 0.0;
 }
 
-int vbl_vrl_pair_sample_draw(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o, vbl_vec3 l_d,
-                             double v0, double v1, double g_camera, double g_light, double xi1, double xi2,
-                             vbl_vrl_pair_sample* out)
+int vbl_vrl_pair_sample_draw(const vbl_segment* camera, const vbl_segment* light, double g_camera, double g_light,
+                             double xi1, double xi2, vbl_vrl_pair_sample* out)
 {
     vbl_vrl_pair p;
-    vbl_vrl_pair_init(&p, c_o, c_d, u0, u1, l_o, l_d, v0, v1, g_camera, g_light);
+    vbl_vrl_pair_init(&p, camera, light, g_camera, g_light);
     return vbl_vrl_pair_draw(&p, xi1, xi2, out);
 }
 
-double vbl_vrl_pair_pdf(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o, vbl_vec3 l_d,
-                        double v0, double v1, double g_camera, double g_light, double u, double v)
+double vbl_vrl_pair_pdf(const vbl_segment* camera, const vbl_segment* light, double g_camera, double g_light,
+                        double u, double v)
 {
     vbl_vrl_pair p;
-    vbl_vrl_pair_init(&p, c_o, c_d, u0, u1, l_o, l_d, v0, v1, g_camera, g_light);
+    vbl_vrl_pair_init(&p, camera, light, g_camera, g_light);
     return vbl_vrl_pair_density(&p, u, v);
 }
 

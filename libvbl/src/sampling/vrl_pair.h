@@ -21,6 +21,7 @@
 #define VBL_SAMPLING_VRL_PAIR_H
 
 #include "core/math.h"
+#include "core/segment.h"
 #include "sampling/sinh_marginal.h"
 
 #ifdef __cplusplus
@@ -48,9 +49,10 @@ typedef struct vbl_vrl_pair {
 void vbl_vrl_line_projection(vbl_vec3 c_o, vbl_vec3 c_d, vbl_vec3 l_o, vbl_vec3 l_d, double v0, double* beta,
                              double* s, double* h);
 
-/* Returns 1 if the pair has support (both segments of positive length), 0 otherwise. */
-int vbl_vrl_pair_init(vbl_vrl_pair* p, vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o,
-                      vbl_vec3 l_d, double v0, double v1, double g_camera, double g_light);
+/* The pair of the camera segment (c_o, c_d, [u0, u1]) and the VRL segment (l_o, l_d, [v0, v1]).
+ * Returns 1 if the pair has support (both segments of positive length), 0 otherwise. */
+int vbl_vrl_pair_init(vbl_vrl_pair* p, const vbl_segment* camera, const vbl_segment* light, double g_camera,
+                      double g_light);
 int vbl_vrl_pair_draw(const vbl_vrl_pair* p, double xi1, double xi2, vbl_vrl_pair_sample* out);
 double vbl_vrl_pair_density(const vbl_vrl_pair* p, double u, double v);
 /* Marginal density of v alone (stage 1) and conditional density of u given v (stage 2). */
@@ -58,11 +60,10 @@ double vbl_vrl_pair_marginal_pdf(const vbl_vrl_pair* p, double v);
 double vbl_vrl_pair_conditional_pdf(const vbl_vrl_pair* p, double v, double u);
 
 /* One-call forms. Return 0 / pdf 0 if the pair has no support (e.g. a zero-length segment). */
-int vbl_vrl_pair_sample_draw(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o, vbl_vec3 l_d,
-                             double v0, double v1, double g_camera, double g_light, double xi1, double xi2,
-                             vbl_vrl_pair_sample* out);
-double vbl_vrl_pair_pdf(vbl_vec3 c_o, vbl_vec3 c_d, double u0, double u1, vbl_vec3 l_o, vbl_vec3 l_d,
-                        double v0, double v1, double g_camera, double g_light, double u, double v);
+int vbl_vrl_pair_sample_draw(const vbl_segment* camera, const vbl_segment* light, double g_camera, double g_light,
+                             double xi1, double xi2, vbl_vrl_pair_sample* out);
+double vbl_vrl_pair_pdf(const vbl_segment* camera, const vbl_segment* light, double g_camera, double g_light,
+                        double u, double v);
 
 /* The target of eq (15) without normalisation: f_s(theta_u) f_s(theta_v) / w^2 at (u, v), with the
  * conventions above (0 where w == 0). Used by tests and by estimators that need the integrand. */

@@ -74,7 +74,9 @@ class _VolumeLoadOptions(ctypes.Structure):
                 ("grid_name", ctypes.c_char_p),
                 ("grid_index", ctypes.c_int),
                 ("bad_voxels", _c_enum),
-                ("majorant_block_size", ctypes.c_int)]
+                ("majorant_block_size", ctypes.c_int),
+                # const volatile int* cancel: left NULL (Ctrl-C is handled around the render)
+                ("cancel", ctypes.c_void_p)]
 
 
 class _VolumeInfo(ctypes.Structure):
@@ -126,7 +128,9 @@ class _SceneLoadOptions(ctypes.Structure):
                 # shot overrides: a camera name or camera JSON file, an image size (> 0)
                 ("camera", ctypes.c_char_p),
                 ("width", ctypes.c_int),
-                ("height", ctypes.c_int)]
+                ("height", ctypes.c_int),
+                # const volatile int* cancel: left NULL
+                ("cancel", ctypes.c_void_p)]
 
 
 class _RenderProgress(ctypes.Structure):

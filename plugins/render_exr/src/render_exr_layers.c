@@ -71,13 +71,15 @@ vbl_result vbl_render_exr_layers_make(const vbl_render_exr_settings* s, const vb
     for (int t = 0; s->convert && t < L->count; ++t) {
         if (L->kinds[t] != VBL_RENDER_EXR_TOTAL || !L->owned[t]) continue;
         const int volume = !strcmp(L->names[t], VBL_FILM_TOTAL_VOLUME_INDIRECT);
-        static const char* const volume_members[2] = {"volume_from_surface", "volume_from_volume"};
-        static const char* const surface_members[2] = {"surface_from_surface", "surface_from_volume"};
-        const char* const* members = volume ? volume_members : surface_members;
+        /* the members of the total (vbl/vbl_film.h, VBL_FILM_TOTAL_*), by the library's names */
+        const vbl_transport_class members[2] = {
+            volume ? VBL_CLASS_VOLUME_FROM_SURFACE : VBL_CLASS_SURFACE_FROM_SURFACE,
+            volume ? VBL_CLASS_VOLUME_FROM_VOLUME : VBL_CLASS_SURFACE_FROM_VOLUME};
         const float* src[2] = {NULL, NULL};
         for (int k = 0; k < L->count; ++k)
             for (int m = 0; m < 2; ++m)
-                if (L->kinds[k] == VBL_RENDER_EXR_TRANSPORT && !strcmp(L->names[k], members[m])) src[m] = L->pixels[k];
+                if (L->kinds[k] == VBL_RENDER_EXR_TRANSPORT && !strcmp(L->names[k], vbl_transport_class_name(members[m])))
+                    src[m] = L->pixels[k];
         for (size_t v = 0; v < 3 * n; ++v) {
             float sum = 0.0f;
             for (int m = 0; m < 2; ++m)

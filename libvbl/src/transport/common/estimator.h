@@ -22,6 +22,7 @@
 #include "core/rng.h"
 #include "vbl/vbl_film.h"
 #include "media/media_emission.h"
+#include "media/medium.h"
 #include "scene/scene.h"
 #include "volume/transmittance.h"
 
@@ -171,6 +172,22 @@ static inline int vbl_ctx_free_flight_visit(const vbl_render_context* ctx, vbl_t
     return vbl_free_flight_sample_visit(ctx->extinction, &ts->cursor, origin, direction, t0, t1,
                                         ctx->tracking.use_global_majorant, rng, t_collision, sigma_t,
                                         component_sigma_t, visit, user);
+}
+
+/* vbl_ctx_free_flight on a segment from `ray`'s origin along its direction up to ray->t1 (may be
+ * INFINITY; ray->t0 is ignored: the flight starts at 0, clipped to the media's bounds): returns 1
+ * with the collision distance *t and the medium there (media/medium.h), 0 if the ray leaves the
+ * media. The same random numbers and collisions as vbl_ctx_free_flight. */
+static inline int vbl_ctx_free_flight_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_segment* ray,
+                                             vbl_rng* rng, double* t, vbl_medium_point* mp)
+{
+    double t0, t1;
+    if (ctx->extinction->count == 0 ||
+        !vbl_extinction_ray_bounds(ctx->extinction, ray->origin, ray->direction, 0.0, ray->t1, &t0, &t1) || !(t1 > t0))
+        return 0;
+    const vbl_segment clipped = vbl_segment_make(ray->origin, ray->direction, t0, t1);
+    return vbl_medium_free_flight(ctx->scene, ctx->extinction, &ts->cursor, &clipped,
+                                  ctx->tracking.use_global_majorant, rng, t, mp);
 }
 
 #endif

@@ -7,7 +7,7 @@
 
 #include "sampling/equiangular.h"
 #include "scene/lights.h"
-#include "media/media.h"
+#include "media/medium.h"
 
 static void vbl_ss_add(vbl_vec3* acc, vbl_vec3 kernel, vbl_vec3 li, double s)
 {
@@ -30,7 +30,8 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
     if (ext->count == 0 || scene->light_count == 0 || !(t_max > 0.0)) return;
     double t0, t1;
     if (!vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0)) return;
-    double components[VBL_MAX_MEDIA] = {0};
+    const vbl_segment camera = vbl_segment_make(origin, direction, t0, t1); /* its overlap with the media */
+    vbl_medium_point mp; /* what scatters at the sampled point (media/medium.h) */
     int has_non_delta = 0;
 
     /* point and spot lights: equiangular sampling of the distance */
@@ -43,12 +44,11 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         double pdf_t = 0.0;
         double t = vbl_equiangular_sample(origin, direction, t0, t1, light->position, vbl_rng_uniform(rng), &pdf_t);
         if (!(pdf_t > 0.0) || !(t >= t0 && t <= t1)) continue;
-        vbl_vec3 x = vbl_v3_madd(origin, direction, t);
-        double sigma_t = vbl_extinction_eval(ext, &ts->cursor, x, components);
-        if (!(sigma_t > 0.0)) continue;
+        vbl_vec3 x = vbl_segment_at(&camera, t);
+        if (!(vbl_medium_query(scene, ext, &ts->cursor, x, &mp) > 0.0)) continue;
         vbl_light_sample ls;
         if (!vbl_light_sample_incident(light, x, 0.5, 0.5, &ls)) continue;
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, ls.wi));
+        vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, ls.wi));
         if (vbl_v3_max_component(kernel) <= 0.0 || vbl_v3_max_component(ls.li) <= 0.0) continue;
         double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, t0, t, &ctx->tracking, rng);
         if (!(T_camera > 0.0)) continue;
@@ -58,12 +58,11 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
     if (!has_non_delta) return;
 
     /* distant, quad and environment lights: one free flight, then each light sampled */
-    double t = 0.0, sigma_t = 0.0;
-    if (!vbl_free_flight_sample(ext, &ts->cursor, origin, direction, t0, t1, ctx->tracking.use_global_majorant, rng,
-                                &t, &sigma_t, components) ||
-        !(sigma_t > 0.0))
+    double t = 0.0;
+    if (!vbl_medium_free_flight(scene, ext, &ts->cursor, &camera, ctx->tracking.use_global_majorant, rng, &t, &mp) ||
+        !(mp.sigma_t > 0.0))
         return;
-    vbl_vec3 x = vbl_v3_madd(origin, direction, t);
+    vbl_vec3 x = vbl_segment_at(&camera, t);
     for (int i = 0; i < scene->light_count; ++i) {
         const vbl_light* light = &scene->lights[i];
         if (light->type == VBL_LIGHT_POINT || light->type == VBL_LIGHT_SPOT) continue;
@@ -71,13 +70,13 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         vbl_light_sample ls;
         if (!vbl_light_sample_incident(light, x, u1, u2, &ls)) continue;
         double cos_theta = vbl_v3_dot(direction, ls.wi);
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, cos_theta);
+        vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, cos_theta);
         if (vbl_v3_max_component(kernel) <= 0.0 || vbl_v3_max_component(ls.li) <= 0.0) continue;
         double w = 1.0; /* quad, environment: MIS with the phase sample below */
         if (light->type != VBL_LIGHT_DISTANT)
-            w = vbl_mis_weight(ctx->options.mis, ls.pdf, vbl_media_phase_pdf(scene, components, cos_theta));
+            w = vbl_mis_weight(ctx->options.mis, ls.pdf, vbl_medium_phase_pdf(&mp, cos_theta));
         double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
-        vbl_ss_add(radiance, kernel, ls.li, w * T_light / (ls.pdf * sigma_t));
+        vbl_ss_add(radiance, kernel, ls.li, w * T_light / (ls.pdf * mp.sigma_t));
     }
     if (!scene->has_visible_lights) return; /* distant lights only: light sampling is exact in direction */
 
@@ -87,9 +86,9 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
     vbl_vec3 wi;
     double pdf_phase = 0.0;
     double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
-    if (!vbl_media_sample_phase(scene, components, direction, u0, u1, u2, &wi, &pdf_phase) || !(pdf_phase > 0.0))
+    if (!vbl_medium_phase_sample(&mp, direction, u0, u1, u2, &wi, &pdf_phase) || !(pdf_phase > 0.0))
         return;
-    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, wi));
+    vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
     if (vbl_v3_max_component(kernel) <= 0.0) return;
     for (int i = 0; i < scene->light_count; ++i) {
         const vbl_light* light = &scene->lights[i];
@@ -103,7 +102,7 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         double w = vbl_mis_weight(ctx->options.mis, pdf_phase, pdf_light);
         if (!(w > 0.0) || vbl_v3_max_component(light->color) <= 0.0) continue;
         double T_light = vbl_ctx_transmittance(ctx, ts, x, wi, t_hit, rng);
-        vbl_ss_add(radiance, kernel, light->color, w * T_light / (pdf_phase * sigma_t));
+        vbl_ss_add(radiance, kernel, light->color, w * T_light / (pdf_phase * mp.sigma_t));
     }
 }
 

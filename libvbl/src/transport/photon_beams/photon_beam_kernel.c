@@ -65,10 +65,12 @@ int vbl_photon_beam_eval(vbl_vec3 c_o, vbl_vec3 c_d, double len_c, vbl_vec3 b_o,
     return out->weight > 0.0 && isfinite(out->weight);
 }
 
-double vbl_photon_beam_estimate(vbl_vec3 c_o, vbl_vec3 c_d, double len_c, vbl_vec3 b_o, vbl_vec3 b_d, double len_b,
-                                double r, double power, double sigma_s, double g, vbl_beam_transmittance_fn transmittance,
-                                void* ctx)
+double vbl_photon_beam_estimate(const vbl_segment* camera, const vbl_segment* beam, double r, double power,
+                                double sigma_s, double g, vbl_beam_transmittance_fn transmittance, void* ctx)
 {
+    const vbl_vec3 c_o = vbl_segment_at(camera, camera->t0), c_d = camera->direction;
+    const vbl_vec3 b_o = vbl_segment_at(beam, beam->t0), b_d = beam->direction;
+    const double len_c = camera->t1 - camera->t0, len_b = beam->t1 - beam->t0;
     vbl_photon_beam_eval_result e;
     if (!vbl_photon_beam_eval(c_o, c_d, len_c, b_o, b_d, len_b, r, &e)) return 0.0;
     double tb = 1.0, tc = 1.0;

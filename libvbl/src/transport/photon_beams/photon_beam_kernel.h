@@ -28,6 +28,7 @@
 #define VBL_TRANSPORT_PHOTON_BEAM_KERNEL_H
 
 #include "core/math.h"
+#include "core/segment.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -51,11 +52,12 @@ int vbl_photon_beam_eval(vbl_vec3 c_o, vbl_vec3 c_d, double len_c, vbl_vec3 b_o,
 /* Transmittance from `origin` along unit `dir` over distance t (caller's medium). */
 typedef double (*vbl_beam_transmittance_fn)(void* ctx, vbl_vec3 origin, vbl_vec3 dir, double t);
 
-/* The full eq-38 term: sigma_s * phase(cos_scatter) * power * T_b(t_b) * T_c(t_c) * weight, with
- * phase = HG(g). transmittance may be NULL (T = 1). Returns 0 when the beam does not contribute. */
-double vbl_photon_beam_estimate(vbl_vec3 c_o, vbl_vec3 c_d, double len_c, vbl_vec3 b_o, vbl_vec3 b_d, double len_b,
-                                double r, double power, double sigma_s, double g, vbl_beam_transmittance_fn transmittance,
-                                void* ctx);
+/* The full eq-38 term for the camera segment and the beam segment (each from its start point,
+ * origin + t0 direction, over t1 - t0): sigma_s * phase(cos_scatter) * power * T_b(t_b) * T_c(t_c)
+ * * weight, with phase = HG(g); T from each segment's start point. transmittance may be NULL
+ * (T = 1). Returns 0 when the beam does not contribute. */
+double vbl_photon_beam_estimate(const vbl_segment* camera, const vbl_segment* beam, double r, double power,
+                                double sigma_s, double g, vbl_beam_transmittance_fn transmittance, void* ctx);
 
 #ifdef __cplusplus
 }

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "transport/common/radius_schedule.h"
-#include "media/media.h"
+#include "media/medium.h"
 #include "transport/photon_beams/beam_bvh.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
@@ -149,10 +149,10 @@ static void vbl_gather_piece(void* user, uint32_t beam, double t0, double t1)
     if (!(Tc > 0.0)) return;
     double Tb = vbl_vrl_transmittance(g->photons, l, t0 + e.t_b);
     if (!(Tb > 0.0)) return;
-    double comps[VBL_MAX_MEDIA];
+    vbl_medium_point mp; /* what scatters at x_c (media/medium.h) */
     vbl_vec3 x = vbl_v3_madd(v->c_o, v->c_d, e.t_c);
-    if (!(vbl_extinction_eval(v->ctx->extinction, &v->ts->cursor, x, comps) > 0.0)) return;
-    vbl_vec3 f = vbl_media_scatter_kernel(v->ctx->scene, comps, e.cos_scatter); /* sigma_s f at x_c */
+    if (!(vbl_medium_query(v->ctx->scene, v->ctx->extinction, &v->ts->cursor, x, &mp) > 0.0)) return;
+    vbl_vec3 f = vbl_medium_phase_kernel(&mp, e.cos_scatter); /* sigma_s f at x_c: the mixture of the lobes */
     f = vbl_v3_scale(vbl_v3_mul(f, l->power), Tc * Tb * e.weight);
     if (!(vbl_v3_max_component(f) > 0.0)) return;
     if (l->bounce == 0) v->direct = vbl_v3_add(v->direct, f);

@@ -131,10 +131,10 @@ int vbl_surface_vrl_sampler_init_mixture(vbl_surface_line_sampler* s, const vbl_
     return sampler_init(s, sp, vrl, radius, hint);
 }
 
-static vbl_vec3 estimate(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
-                         vbl_surface_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
-                         double* v_out, double* pdf_out)
+static vbl_vec3 estimate(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, const vbl_surface_kernel* kernel,
+                         vbl_surface_medium_fn medium, void* ctx, double xi, double* v_out, double* pdf_out)
 {
+    const double radius = kernel->radius;
     vbl_vec3 zero = vbl_v3(0, 0, 0);
     vbl_surface_line_sampler s;
     double pdf = 0.0, v = 0.0;
@@ -145,7 +145,7 @@ static vbl_vec3 estimate(const vbl_surface_point* sp, const vbl_surface_vrl* vrl
     vbl_vec3 p = vbl_surface_line_point(&s, v);
     double m = medium(ctx, v, p, sp->position);
     if (!(m > 0.0)) return zero;
-    vbl_vec3 k = radius > 0.0 ? vbl_beam_light_surface_kernel(sp, vrl, v, radius, n, jitter)
+    vbl_vec3 k = radius > 0.0 ? vbl_beam_light_surface_kernel(sp, vrl, v, radius, kernel->n, kernel->jitter)
                               : vbl_vrl_surface_integrand(sp, vrl, v);
     return vbl_v3_scale(vbl_v3_mul(vrl->power, k), m / pdf);
 }
@@ -153,24 +153,24 @@ static vbl_vec3 estimate(const vbl_surface_point* sp, const vbl_surface_vrl* vrl
 vbl_vec3 vbl_surface_from_vrl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, vbl_surface_medium_fn medium,
                               void* ctx, double xi, double* v_out, double* pdf_out)
 {
-    const double none[3] = {0, 0, 0};
-    return estimate(sp, vrl, 0.0, medium, ctx, xi, 1, none, v_out, pdf_out);
+    const vbl_surface_kernel point = {0.0, 1, {0, 0, 0}};
+    return estimate(sp, vrl, &point, medium, ctx, xi, v_out, pdf_out);
 }
 
-vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
-                              vbl_surface_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
-                              double* v_out, double* pdf_out)
+vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, const vbl_surface_kernel* kernel,
+                              vbl_surface_medium_fn medium, void* ctx, double xi, double* v_out, double* pdf_out)
 {
-    double r = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
-    return estimate(sp, vrl, r, medium, ctx, xi, n, jitter, v_out, pdf_out);
+    vbl_surface_kernel k = *kernel;
+    k.radius = (k.radius > 0.0 && isfinite(k.radius)) ? k.radius : 0.0;
+    return estimate(sp, vrl, &k, medium, ctx, xi, v_out, pdf_out);
 }
 
-vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
-                                      const vbl_medium_point* hint, vbl_surface_mixture_fn medium, void* ctx,
-                                      double xi, int n, const double jitter[3])
+vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl,
+                                      const vbl_surface_kernel* kernel, const vbl_medium_point* hint,
+                                      vbl_surface_mixture_fn medium, void* ctx, double xi)
 {
     vbl_vec3 zero = vbl_v3(0, 0, 0);
-    const double r = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
+    const double radius = kernel->radius, r = (radius > 0.0 && isfinite(radius)) ? radius : 0.0;
     vbl_surface_line_sampler s;
     double pdf = 0.0, v = 0.0;
     if (sampler_init(&s, sp, vrl, r, hint)) v = vbl_surface_line_sample(&s, xi, &pdf);
@@ -179,6 +179,6 @@ vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_sur
     mp.count = 0;
     double m = medium(ctx, v, vbl_surface_line_point(&s, v), sp->position, &mp);
     if (!(m > 0.0) || mp.count == 0) return zero;
-    vbl_vec3 k = vbl_surface_vrl_mixture_kernel(sp, vrl, v, r, n, jitter, &mp);
+    vbl_vec3 k = vbl_surface_vrl_mixture_kernel(sp, vrl, v, r, kernel->n, kernel->jitter, &mp);
     return vbl_v3_scale(vbl_v3_mul(vrl->power, k), m / pdf);
 }

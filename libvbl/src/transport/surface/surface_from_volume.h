@@ -72,14 +72,21 @@ vbl_vec3 vbl_surface_vrl_mixture_kernel(const vbl_surface_point* sp, const vbl_s
 int vbl_surface_vrl_sampler_init(vbl_surface_line_sampler* s, const vbl_surface_point* sp,
                                  const vbl_surface_vrl* vrl, double radius);
 
-/* One-sample estimates of eq 6 (radius 0) / eqs 8-9 (radius > 0; the cone kernel with `n`
- * directions per strategy and the jitter[3] randoms). xi picks v. *v_out and *pdf_out may be NULL.
+/* The VSL kernel's radius R (0: the point form) and its cone quadrature (n directions per
+ * strategy, jitter: surface_cone_kernel.h). */
+typedef struct vbl_surface_kernel {
+    double radius;
+    int n;
+    double jitter[3];
+} vbl_surface_kernel;
+
+/* One-sample estimates of eq 6 (radius 0) / eqs 8-9 (kernel->radius > 0; the cone kernel with
+ * kernel->n directions per strategy and the kernel->jitter randoms). xi picks v. *v_out and *pdf_out may be NULL.
  * Returns 0 contribution when the sampler has no support or M(v) == 0. */
 vbl_vec3 vbl_surface_from_vrl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, vbl_surface_medium_fn medium,
                               void* ctx, double xi, double* v_out, double* pdf_out);
-vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
-                              vbl_surface_medium_fn medium, void* ctx, double xi, int n, const double jitter[3],
-                              double* v_out, double* pdf_out);
+vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, const vbl_surface_kernel* kernel,
+                              vbl_surface_medium_fn medium, void* ctx, double xi, double* v_out, double* pdf_out);
 
 /* Overlapping media with different g (media/medium.h): the same estimate with the true phase
  * mixture at the sampled point. `medium` returns sigma_t(p) T_vrl(0, v) T(p, x) V(p, x) and the
@@ -88,8 +95,8 @@ vbl_vec3 vbl_surface_from_vbl(const vbl_surface_point* sp, const vbl_surface_vrl
 typedef double (*vbl_surface_mixture_fn)(void* ctx, double v, vbl_vec3 vrl_point, vbl_vec3 x, vbl_medium_point* mp);
 int vbl_surface_vrl_sampler_init_mixture(vbl_surface_line_sampler* s, const vbl_surface_point* sp,
                                          const vbl_surface_vrl* vrl, double radius, const vbl_medium_point* hint);
-vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl, double radius,
-                                      const vbl_medium_point* hint, vbl_surface_mixture_fn medium, void* ctx,
-                                      double xi, int n, const double jitter[3]);
+vbl_vec3 vbl_surface_from_vrl_mixture(const vbl_surface_point* sp, const vbl_surface_vrl* vrl,
+                                      const vbl_surface_kernel* kernel, const vbl_medium_point* hint,
+                                      vbl_surface_mixture_fn medium, void* ctx, double xi);
 
 #endif

@@ -9,7 +9,6 @@
 #include "core/error.h"
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
-#include "media/media.h"
 #include "media/medium.h"
 #include "transport/surface/surface_caustics.h"
 #include "transport/surface/surface_cone_kernel.h"
@@ -304,17 +303,12 @@ static vbl_vec3 vbl_bn_shade_next(const vbl_render_context* ctx, vbl_thread_stat
     return vbl_v3_add(L, vbl_surface_from_blue_noise(ctx, ts, gs, sample, &y, wo, rng, depth));
 }
 
-/* vbl_bn_shading.medium_f at a delta-tracking collision: sigma_s p(cos) / sigma_t, RGB. */
-typedef struct bn_medium_point {
-    const vbl_scene* scene;
-    const double* comps;
-    double sigma_t;
-} bn_medium_point;
-
+/* vbl_bn_shading.medium_f at a delta-tracking collision (user: its vbl_medium_point): sigma_s p(cos)
+ * / sigma_t, RGB, with the mixture of the lobes there. */
 static vbl_vec3 vbl_bn_medium_f(void* user, double cos_theta)
 {
-    const bn_medium_point* m = user;
-    return vbl_v3_scale(vbl_media_scatter_kernel(m->scene, m->comps, cos_theta), 1.0 / m->sigma_t);
+    const vbl_medium_point* mp = user;
+    return vbl_v3_scale(vbl_medium_phase_kernel(mp, cos_theta), 1.0 / mp->sigma_t);
 }
 
 /* volume_from_surface over the camera segment [u0, u1] from the blue-noise lights (libvbl's
@@ -330,14 +324,15 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
     const int M = ctx->options.max_bounces;
     vbl_vec3 zero = vbl_v3(0.0, 0.0, 0.0);
     if (!gs->blue_noise || (M >= 0 && M < 2) || !(u1 > u0)) return zero;
-    double comps[VBL_MAX_MEDIA] = {0}, t = 0.0, sigma_t = 0.0;
-    if (!vbl_free_flight_sample(ctx->extinction, &ts->cursor, sample->origin, sample->direction, u0, u1,
-                                ctx->tracking.use_global_majorant, rng, &t, &sigma_t, comps) ||
-        !(sigma_t > 0.0))
+    const vbl_segment camera = vbl_segment_make(sample->origin, sample->direction, u0, u1);
+    vbl_medium_point mp;
+    double t = 0.0;
+    if (!vbl_medium_free_flight(scene, ctx->extinction, &ts->cursor, &camera, ctx->tracking.use_global_majorant, rng,
+                                &t, &mp) ||
+        !(mp.sigma_t > 0.0))
         return zero;
     gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = NULL, .cache = NULL};
-    bn_medium_point mp = {scene, comps, sigma_t};
-    const vbl_vec3 x = vbl_v3_madd(sample->origin, sample->direction, t);
+    const vbl_vec3 x = vbl_segment_at(&camera, t);
     vbl_bn_shading sp = {x, vbl_v3(0, 0, 1), vbl_v3(0, 0, 1), vbl_v3_scale(sample->direction, -1.0), NULL, 0.0,
                          vbl_bn_segment_transmittance, &cb, vbl_bn_medium_f, &mp, gs->g_camera};
     return vbl_bn_shade(ctx, ts, gs, sample, &sp, rng, 0);
@@ -427,11 +422,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     vbl_vec3 from_volume = vbl_v3(0.0, 0.0, 0.0);
     vbl_medium_point lobes; /* several media: every lobe, weighted by density scale (the sampler's hint) */
     lobes.count = 0;
-    if (gs->vrls && scene->media_count > 1) {
-        double scale[VBL_MAX_MEDIA] = {0};
-        for (int i = 0; i < scene->media_count; ++i) scale[i] = scene->media[i].density_scale;
-        vbl_medium_point_from_components(scene, scale, &lobes);
-    }
+    if (gs->vrls && scene->media_count > 1) vbl_medium_point_scene(scene, &lobes);
     if (gs->vrls) {
         for (size_t j = 0; j < photons->vrl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
@@ -440,18 +431,18 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_surface_vrl sv = {l->origin, l->direction, l->length, l->power, l->g};
             cb.vrl = l;
             cb.albedo = vbl_v3(0.0, 0.0, 0.0);
-            double xi = vbl_rng_uniform(rng), jitter[3] = {0.0, 0.0, 0.0};
+            double xi = vbl_rng_uniform(rng);
+            vbl_surface_kernel kernel = {gs->vrl_radius, nk, {0.0, 0.0, 0.0}};
             if (gs->vrl_radius > 0.0)
-                for (int k = 0; k < 3; ++k) jitter[k] = vbl_rng_uniform(rng);
+                for (int k = 0; k < 3; ++k) kernel.jitter[k] = vbl_rng_uniform(rng);
             vbl_vec3 e;
             if (scene->media_count > 1) {
                 /* overlapping media: the phase at the VRL point is the mixture of their lobes there,
                  * the sampler fitted to the scene's lobes; the weights replace the albedo */
-                e = vbl_surface_from_vrl_mixture(&sp, &sv, gs->vrl_radius, &lobes, vbl_vrl_medium_mixture, &cb, xi, nk,
-                                                 jitter);
+                e = vbl_surface_from_vrl_mixture(&sp, &sv, &kernel, &lobes, vbl_vrl_medium_mixture, &cb, xi);
                 cb.albedo = vbl_v3(1.0, 1.0, 1.0);
             } else if (gs->vrl_radius > 0.0) {
-                e = vbl_surface_from_vbl(&sp, &sv, gs->vrl_radius, vbl_vrl_medium, &cb, xi, nk, jitter, NULL, NULL);
+                e = vbl_surface_from_vbl(&sp, &sv, &kernel, vbl_vrl_medium, &cb, xi, NULL, NULL);
             } else {
                 e = vbl_surface_from_vrl(&sp, &sv, vbl_vrl_medium, &cb, xi, NULL, NULL);
             }

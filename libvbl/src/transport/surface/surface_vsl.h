@@ -81,14 +81,6 @@ typedef struct vbl_surface_camera_medium {
     void* ctx;
 } vbl_surface_camera_medium;
 
-/* The VSL kernel's radius R (0: the point form) and its cone quadrature (n directions per
- * strategy, jitter: surface_cone_kernel.h). */
-typedef struct vbl_surface_kernel {
-    double radius;
-    int n;
-    double jitter[3];
-} vbl_surface_kernel;
-
 /* The sampler of u in the camera segment [t0, t1] about one VSL (returns 0 without support). */
 int vbl_surface_vsl_camera_sampler_init(vbl_surface_line_sampler* s, const vbl_segment* camera, double g_camera,
                                         const vbl_surface_vsl* vsl, const vbl_material* vm, double radius);

@@ -282,7 +282,8 @@ static void vbl_beam_light_estimate(const vbl_render_context* ctx, const vbl_bea
         thin = s->radius <= s->thin_sin * h;
     }
     if (thin) {
-        if (!vbl_vrl_pair_init(&vpair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g)) return;
+        const vbl_segment camera = vbl_segment_make(o, d, u0, u1), light = vbl_segment_make(l->origin, l->direction, v0, v1);
+        if (!vbl_vrl_pair_init(&vpair, &camera, &light, s->g_camera, l->g)) return;
     } else if (!vbl_beam_light_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g,
                                          s->sampler_radius)) {
         return;

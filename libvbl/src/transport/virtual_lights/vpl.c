@@ -7,7 +7,6 @@
 #include "core/error.h"
 #include "sampling/equiangular.h"
 #include "sampling/phase_hg.h"
-#include "media/media.h"
 #include "media/medium.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
@@ -37,16 +36,11 @@ vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_
         free(s);
         return r;
     }
-    double w = 0.0, g = 0.0;
-    for (int i = 0; i < ctx->scene->media_count; ++i) {
-        const vbl_medium* m = &ctx->scene->media[i];
-        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
-        w += wi;
-        g += wi * m->g;
-    }
+    vbl_medium_point media;
+    vbl_medium_point_scene(ctx->scene, &media);
     s->gather.vpls = 1;
     s->gather.clamp_distance = settings->clamp_distance; /* surface VSLs are VPLs: R = 0 */
-    s->gather.g_camera = w > 0.0 ? g / w : 0.0;
+    s->gather.g_camera = vbl_medium_mean_g(&media); /* the camera samplers' hint */
     if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
         vbl_photon_store_free(&s->photons);
         free(s);

@@ -8,7 +8,6 @@
 #include "transport/common/radius_schedule.h"
 #include "sampling/vrl_camera_mis.h"
 #include "sampling/vrl_pair.h"
-#include "media/media.h"
 #include "media/medium.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
@@ -59,7 +58,8 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
 {
     vbl_piece_weight_ctx* w = user;
     const vbl_scene* scene = w->ctx->scene;
-    double comps[VBL_MAX_MEDIA], sum = 0.0;
+    vbl_medium_point mp; /* media/medium.h */
+    double sum = 0.0;
     /* cancel / time limit: weight 0 leaves the remaining pieces out, so the build ends at once;
      * the stop is latched, so the driver drops this pass at its first pixel and the tree never
      * reaches the film */
@@ -67,10 +67,10 @@ static double vbl_piece_weight(void* user, const vbl_vrl* l, double v0, double v
     if (w->ctx->stop_latch && *w->ctx->stop_latch) return 0.0;
     for (int k = 0; k < VBL_VRL_SELECT_DENSITY_POINTS; ++k) {
         vbl_vec3 x = vbl_v3_madd(l->origin, l->direction, v0 + (v1 - v0) * (k + 0.5) / VBL_VRL_SELECT_DENSITY_POINTS);
-        if (!(vbl_extinction_eval(w->ctx->extinction, &w->cursor, x, comps) > 0.0)) continue;
-        for (int i = 0; i < scene->media_count; ++i) {
-            vbl_vec3 a = scene->media[i].albedo;
-            sum += comps[i] * (a.x + a.y + a.z) / 3.0;
+        if (!(vbl_medium_query(scene, w->ctx->extinction, &w->cursor, x, &mp) > 0.0)) continue;
+        for (int i = 0; i < mp.count; ++i) {
+            vbl_vec3 a = mp.lobe[i].albedo;
+            sum += mp.lobe[i].sigma_t * (a.x + a.y + a.z) / 3.0;
         }
     }
     return fmax(sum / VBL_VRL_SELECT_DENSITY_POINTS, w->floor);
@@ -91,7 +91,7 @@ vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_ph
     w.floor = ctx->extinction->max_sigma_t > 0.0 ? 1e-3 * ctx->extinction->max_sigma_t : 1.0;
     return vbl_vrl_tree_build_stoppable(tree, photons->vrls, photons->vrl_count, ctx->options.max_bounces,
                                         VBL_VRL_SELECT_FLOOR_REL * radius, VBL_VRL_SELECT_PIECE_REL * radius,
-                                        vbl_piece_weight, &w, vbl_vrl_tree_stop, (void*)ctx);
+                                        vbl_piece_weight, &w, &(vbl_vrl_tree_stop_hook){vbl_vrl_tree_stop, (void*)ctx});
 }
 
 vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store)
@@ -116,14 +116,9 @@ vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_
     vbl_vrl_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vrl store)", scene->path);
     s->settings = *settings;
-    double w = 0.0, g = 0.0;
-    for (int i = 0; i < scene->media_count; ++i) {
-        const vbl_medium* m = &scene->media[i];
-        double wi = m->density_scale * (m->albedo.x + m->albedo.y + m->albedo.z);
-        w += wi;
-        g += wi * m->g;
-    }
-    s->g_camera = w > 0.0 ? g / w : 0.0;
+    vbl_medium_point media;
+    vbl_medium_point_scene(scene, &media);
+    s->g_camera = vbl_medium_mean_g(&media); /* the camera samplers' hint */
     vbl_vec3 center;
     double radius = 0.0;
     if (settings->rr_radius > 0.0 && vbl_media_bounding_sphere(scene, &center, &radius))
@@ -215,17 +210,18 @@ double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tr
 }
 
 int vbl_vrl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, vbl_vec3 origin,
-                         vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_transmittance_cache* cache, double* u0,
-                         double* u1)
+                         vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_vrl_camera* out)
 {
     const vbl_vrl_store* s = store;
+    double u0, u1;
     if (ctx->extinction->count == 0 || !(t_max > 0.0) ||
-        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, u0, u1) || !(*u1 > *u0))
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &u0, &u1) || !(u1 > u0))
         return 0;
+    out->ray = vbl_segment_make(origin, direction, u0, u1);
     vbl_transmittance_estimator kind = ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA
                                            ? VBL_TRANSMITTANCE_CACHED_DELTA
                                            : VBL_TRANSMITTANCE_CACHED_RATIO;
-    vbl_transmittance_cache_build_rr(cache, kind, ctx->extinction, &ts->cursor, origin, direction, *u0, *u1, 16,
+    vbl_transmittance_cache_build_rr(&out->cache, kind, ctx->extinction, &ts->cursor, origin, direction, u0, u1, 16,
                                      ctx->tracking.use_global_majorant, s->settings.transmittance_rr, rng);
     return 1;
 }
@@ -253,18 +249,35 @@ int vbl_vrl_camera_step_pdf(const vbl_transmittance_cache* cache, double u0, dou
     return vbl_step_pdf_init(out, x, y, n, 0.0);
 }
 
-/* Adds one VRL's estimate of eq 7 over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *acc. */
-static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store* s, vbl_thread_state* ts,
-                             const vbl_vrl* l, double v0, double v1, vbl_vec3 o, vbl_vec3 d, double u0, double u1,
-                             const vbl_transmittance_cache* cache, const vbl_step_pdf* camera, double weight,
-                             vbl_rng* rng, vbl_vec3* acc)
+/* One camera sample's gather over the VRLs: the store, the camera segment with its cache, and
+ * the estimate's accumulator (also the light tree's visitor). */
+typedef struct vbl_vrl_gather {
+    const vbl_render_context* ctx;
+    const vbl_vrl_store* s;
+    vbl_thread_state* ts;
+    const vbl_vrl_camera* cam;
+    const vbl_step_pdf* camera; /* the camera technique's u density (camera_mis), or NULL */
+    vbl_rng* rng;
+    vbl_vec3* acc;
+} vbl_vrl_gather;
+
+/* Adds one VRL's estimate of eq 7 over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *g->acc. */
+static void vbl_vrl_estimate(const vbl_vrl_gather* g, const vbl_vrl* l, double v0, double v1, double weight)
 {
+    const vbl_render_context* ctx = g->ctx;
+    const vbl_vrl_store* s = g->s;
+    vbl_thread_state* ts = g->ts;
+    const vbl_step_pdf* camera = g->camera;
+    const vbl_transmittance_cache* cache = &g->cam->cache;
+    const vbl_vec3 o = g->cam->ray.origin, d = g->cam->ray.direction;
+    vbl_rng* rng = g->rng;
+    vbl_vec3* acc = g->acc;
     const vbl_scene* scene = ctx->scene;
     const int S = s->settings.samples;
     vbl_medium_point mu, mv;
     vbl_vrl_pair pair;
-    if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g))
-        return;
+    const vbl_segment light = vbl_segment_make(l->origin, l->direction, v0, v1);
+    if (!vbl_vrl_pair_init(&pair, &g->cam->ray, &light, s->g_camera, l->g)) return;
     for (int k = 0; k < S; ++k) {
         double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
         vbl_vrl_pair_sample ps;
@@ -295,24 +308,11 @@ static void vbl_vrl_estimate(const vbl_render_context* ctx, const vbl_vrl_store*
     }
 }
 
-/* One selected piece (vbl_vrl_tree_select) through vbl_vrl_estimate. */
-typedef struct vbl_vrl_piece_visit {
-    const vbl_render_context* ctx;
-    const vbl_vrl_store* s;
-    vbl_thread_state* ts;
-    vbl_vec3 o, d;
-    double u0, u1;
-    const vbl_transmittance_cache* cache;
-    const vbl_step_pdf* camera;
-    vbl_rng* rng;
-    vbl_vec3* acc;
-} vbl_vrl_piece_visit;
-
+/* One selected piece (vbl_vrl_tree_select) through vbl_vrl_estimate (user: the vbl_vrl_gather). */
 static void vbl_vrl_visit_piece(const vbl_vrl_tree_piece* pc, double weight, void* user)
 {
-    const vbl_vrl_piece_visit* v = user;
-    vbl_vrl_estimate(v->ctx, v->s, v->ts, &v->s->photons.vrls[pc->vrl], pc->v0, pc->v1, v->o, v->d, v->u0, v->u1,
-                     v->cache, v->camera, weight, v->rng, v->acc);
+    const vbl_vrl_gather* g = user;
+    vbl_vrl_estimate(g, &g->s->photons.vrls[pc->vrl], pc->v0, pc->v1, weight);
 }
 
 void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
@@ -328,23 +328,24 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
 
-    vbl_transmittance_cache cache;
-    double u0, u1;
-    if (!vbl_vrl_camera_cache(ctx, s, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
-    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
+    vbl_vrl_camera cam;
+    if (!vbl_vrl_camera_cache(ctx, s, ts, o, d, sample->t_max, rng, &cam)) return;
+    const vbl_transmittance_cache* cache = &cam.cache;
+    const double u0 = cam.ray.t0, u1 = cam.ray.t1;
+    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, cache, u0, u1, rng, out);
     const int S = s->settings.samples;
     vbl_step_pdf camera_pdf;
     const vbl_step_pdf* camera =
-        s->settings.camera_mis && vbl_vrl_camera_step_pdf(&cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
+        s->settings.camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    const vbl_vrl_gather g = {ctx, s, ts, &cam, camera, rng, &acc};
     if (s->settings.select > 0) {
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
         const int K = s->settings.select;
         vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
-                                vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
+                                vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), cache, u0,
                                 VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
-        vbl_vrl_piece_visit v = {ctx, s, ts, o, d, u0, u1, &cache, camera, rng, &acc};
-        vbl_vrl_tree_select(&s->tree, &q, K, S, rng, vbl_vrl_visit_piece, &v);
+        vbl_vrl_tree_select(&s->tree, &q, K, S, rng, vbl_vrl_visit_piece, (void*)&g);
     } else {
         const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
         for (size_t j = 0; j < s->photons.vrl_count; ++j) {
@@ -361,7 +362,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
                     weight /= q;
                 }
             }
-            vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, o, d, u0, u1, &cache, camera, weight, rng, &acc);
+            vbl_vrl_estimate(&g, l, 0.0, l->length, weight);
         }
     }
     out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
@@ -375,43 +376,46 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
     const int M = ctx->options.max_bounces;
     for (size_t j = 0; s && j < s->photons.vrl_count; ++j) contribution[j] = 0.0;
     *visible = 0.0;
-    vbl_transmittance_cache cache;
-    double u0, u1;
-    if (!s || !vbl_vrl_camera_cache(ctx, s, ts, sample->origin, sample->direction, sample->t_max, rng, &cache, &u0, &u1))
-        return 0;
-    *visible = vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT) / (u1 - u0);
+    vbl_vrl_camera cam;
+    if (!s || !vbl_vrl_camera_cache(ctx, s, ts, sample->origin, sample->direction, sample->t_max, rng, &cam)) return 0;
+    const vbl_transmittance_cache* cache = &cam.cache;
+    const double u0 = cam.ray.t0, u1 = cam.ray.t1;
+    *visible = vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT) / (u1 - u0);
     if (pdf) {
         vbl_vrl_tree_query q = {vbl_v3_madd(sample->origin, sample->direction, u0), sample->direction,
-                                vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
+                                vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), cache, u0,
                                 VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
         for (size_t j = 0; j < s->photons.vrl_count; ++j) pdf[j] = 0.0;
         for (int i = 0; i < s->tree.piece_count; ++i) pdf[s->tree.pieces[i].vrl] += vbl_vrl_tree_pdf(&s->tree, &q, i);
     }
     vbl_step_pdf camera_pdf;
     const vbl_step_pdf* camera =
-        s->settings.camera_mis && vbl_vrl_camera_step_pdf(&cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
+        s->settings.camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
     for (size_t j = 0; j < s->photons.vrl_count; ++j) {
         const vbl_vrl* l = &s->photons.vrls[j];
         if (M >= 0 && l->bounce + 2 > M) continue;
         vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
-        vbl_vrl_estimate(ctx, s, ts, l, 0.0, l->length, sample->origin, sample->direction, u0, u1, &cache, camera,
-                         1.0, rng, &acc);
+        const vbl_vrl_gather g = {ctx, s, ts, &cam, camera, rng, &acc};
+        vbl_vrl_estimate(&g, l, 0.0, l->length, 1.0);
         contribution[j] = acc.x + acc.y + acc.z;
     }
     return 1;
 }
 
 int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, size_t vrl,
-                           vbl_vec3 o, vbl_vec3 d, double u0, double u1, const vbl_transmittance_cache* cache,
-                           vbl_rng* rng, vbl_vrl_factors* out)
+                           const vbl_vrl_camera* cam, vbl_rng* rng, vbl_vrl_factors* out)
 {
     const vbl_vrl_store* s = store;
     const vbl_scene* scene = ctx->scene;
     const vbl_vrl* l = &s->photons.vrls[vrl];
+    const vbl_transmittance_cache* cache = &cam->cache;
+    const vbl_vec3 o = cam->ray.origin, d = cam->ray.direction;
+    const double u0 = cam->ray.t0, u1 = cam->ray.t1;
     vbl_medium_point mu, mv;
     vbl_vrl_pair pair;
     memset(out, 0, sizeof *out);
-    if (!vbl_vrl_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, 0.0, l->length, s->g_camera, l->g)) return 0;
+    const vbl_segment light = vbl_segment_make(l->origin, l->direction, 0.0, l->length);
+    if (!vbl_vrl_pair_init(&pair, &cam->ray, &light, s->g_camera, l->g)) return 0;
     double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
     vbl_vrl_pair_sample ps;
     vbl_step_pdf camera;

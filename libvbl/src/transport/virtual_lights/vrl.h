@@ -44,6 +44,7 @@
 #define VBL_TRANSPORT_VRL_H
 
 #include "transport/common/estimator.h"
+#include "volume/transmittance_cache.h"
 
 typedef struct vbl_vrl_settings {
     int samples;               /* (u, v) samples per VRL / camera-ray pair, >= 1 */
@@ -68,12 +69,16 @@ typedef struct vbl_vrl_settings {
 #define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0, 0, 0.1}
 
 struct vbl_step_pdf;
-struct vbl_transmittance_cache;
+/* The camera ray inside the media as vrl gathers along it: ray = (origin, direction, [u0, u1]),
+ * the media overlap, and the cached transmittance T(u) on it. */
+typedef struct vbl_vrl_camera {
+    vbl_segment ray;
+    vbl_transmittance_cache cache;
+} vbl_vrl_camera;
 /* The camera ray's media overlap [u0, u1] (first t_max units) and its cached transmittance as the
  * store's settings build it (vbl_camera_segment_cache_to with transmittance_rr). 0: misses. */
 int vbl_vrl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, vbl_vec3 origin,
-                         vbl_vec3 direction, double t_max, vbl_rng* rng, struct vbl_transmittance_cache* cache,
-                         double* u0, double* u1);
+                         vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_vrl_camera* out);
 
 /* The camera ray's cached transmittance on [u0, u1] as a step density (the u density of the
  * camera technique, vrl_camera_mis.h). Returns 0 if it has no usable mass. */
@@ -127,7 +132,7 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
                           double* pdf);
 
 /* Diagnostics (bench/bench_vrl_tail.c): the factors of one pair-sampler draw of eq 7 for VRL
- * `vrl` of the store (whole VRL) and the camera segment [u0, u1] with its cache: the estimate is
+ * `vrl` of the store (whole VRL) and the camera segment with its cache (vbl_vrl_camera_cache): the estimate is
  * f Tc Tl Tw / (w2 pdf) with f = sum RGB of the two scattering kernels times the power;
  * phase_geometry = the sampler's target (vrl_pair.h); tw_march / tc_march: ray-marched
  * (near-exact) transmittances of the connection and of the camera ray to u. Returns 0 when the
@@ -135,10 +140,8 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
 typedef struct vbl_vrl_factors {
     double pdf, w2, phase_geometry, tc, tl, tw, tw_march, tc_march, sigma_u, sigma_v, f, power;
 } vbl_vrl_factors;
-struct vbl_transmittance_cache;
 int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, size_t vrl,
-                           vbl_vec3 o, vbl_vec3 d, double u0, double u1, const struct vbl_transmittance_cache* cache,
-                           vbl_rng* rng, vbl_vrl_factors* out);
+                           const vbl_vrl_camera* camera, vbl_rng* rng, vbl_vrl_factors* out);
 
 /* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);

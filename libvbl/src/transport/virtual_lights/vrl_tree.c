@@ -76,12 +76,12 @@ static int vbl_tree_build_range(vbl_vrl_tree* tree, vbl_tree_item* items, int n,
 vbl_result vbl_vrl_tree_build(vbl_vrl_tree* tree, const vbl_vrl* vrls, size_t count, int max_bounces, double floor,
                               double piece_length, vbl_vrl_tree_weight_fn weight, void* user)
 {
-    return vbl_vrl_tree_build_stoppable(tree, vrls, count, max_bounces, floor, piece_length, weight, user, NULL, NULL);
+    return vbl_vrl_tree_build_stoppable(tree, vrls, count, max_bounces, floor, piece_length, weight, user, NULL);
 }
 
 vbl_result vbl_vrl_tree_build_stoppable(vbl_vrl_tree* tree, const vbl_vrl* vrls, size_t count, int max_bounces,
                                         double floor, double piece_length, vbl_vrl_tree_weight_fn weight, void* user,
-                                        int (*stop)(void* stop_user), void* stop_user)
+                                        const vbl_vrl_tree_stop_hook* stop)
 {
     *tree = (vbl_vrl_tree){0};
     tree->floor = floor;
@@ -138,7 +138,7 @@ vbl_result vbl_vrl_tree_build_stoppable(vbl_vrl_tree* tree, const vbl_vrl* vrls,
             vbl_vrl_tree_free(tree);
             return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "vrl tree: out of memory (%d nodes)", 2 * n - 1);
         }
-        vbl_tree_stop st = {stop, stop_user, 0};
+        vbl_tree_stop st = {stop ? stop->fn : NULL, stop ? stop->user : NULL, 0};
         vbl_tree_build_range(tree, items, n, -1, &st);
         if (st.stopped) {
             free(items);

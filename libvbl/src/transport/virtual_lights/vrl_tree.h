@@ -103,11 +103,16 @@ typedef struct vbl_vrl_tree_query {
  * pieces of weight <= 0 are left out. An empty tree is valid: light_count = 0. */
 vbl_result vbl_vrl_tree_build(vbl_vrl_tree* tree, const struct vbl_vrl* vrls, size_t count, int max_bounces,
                               double floor, double piece_length, vbl_vrl_tree_weight_fn weight, void* user);
+/* A stop hook: fn(user) non-zero asks the build to stop. */
+typedef struct vbl_vrl_tree_stop_hook {
+    int (*fn)(void* user);
+    void* user;
+} vbl_vrl_tree_stop_hook;
 /* The same with a stop hook (may be NULL), asked at every node over 1024 pieces: non-zero ends the
  * build with VBL_ERROR_INTERRUPTED and an empty tree (cancel, time limit). */
 vbl_result vbl_vrl_tree_build_stoppable(vbl_vrl_tree* tree, const struct vbl_vrl* vrls, size_t count, int max_bounces,
                                         double floor, double piece_length, vbl_vrl_tree_weight_fn weight, void* user,
-                                        int (*stop)(void* stop_user), void* stop_user);
+                                        const vbl_vrl_tree_stop_hook* stop);
 void vbl_vrl_tree_free(vbl_vrl_tree* tree);
 
 /* One draw: the chosen piece's index (tree->pieces) and its selection probability (*pdf > 0),

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "media/media.h"
+#include "media/medium.h"
 #include "transport/common/light_emission.h"
 #include "volume/transmittance.h"
 
@@ -52,19 +52,23 @@ static void trace_path(const shared* sh, size_t index, path_hits* out)
     const int media = ext && ext->count > 0;
     vbl_extinction_cursor cursor;
     if (media) vbl_extinction_cursor_init(&cursor, ext);
-    double comps[VBL_MAX_MEDIA] = {0};
+    vbl_medium_point mp; /* what scatters at a collision (media/medium.h) */
     for (int k = 0;; ++k) {
         vbl_surface_hit hit;
         const int on_surface = vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit);
-        double t0 = 0.0, t1 = 0.0, t = 0.0, sigma_t = 0.0;
-        if (media && vbl_extinction_ray_bounds(ext, x, d, 0.0, on_surface ? hit.t : INFINITY, &t0, &t1) && t1 > t0 &&
-            vbl_free_flight_sample(ext, &cursor, x, d, t0, t1, sh->o->use_global_majorant, &rng, &t, &sigma_t,
-                                   comps)) {
+        double t0 = 0.0, t1 = 0.0, t = 0.0;
+        int collided = 0;
+        if (media && vbl_extinction_ray_bounds(ext, x, d, 0.0, on_surface ? hit.t : INFINITY, &t0, &t1) && t1 > t0) {
+            const vbl_segment seg = vbl_segment_make(x, d, t0, t1);
+            collided = vbl_medium_free_flight(scene, ext, &cursor, &seg, sh->o->use_global_majorant, &rng, &t, &mp);
+        }
+        if (collided) {
             /* a medium scattering event k: not split; the next hit has k + 1 earlier events */
-            if (!(sigma_t > 0.0) || (sh->o->max_bounce >= 0 && k >= sh->o->max_bounce)) return;
-            double u0 = vbl_rng_uniform(&rng), u1 = vbl_rng_uniform(&rng), u2 = vbl_rng_uniform(&rng);
+            if (!(mp.sigma_t > 0.0) || (sh->o->max_bounce >= 0 && k >= sh->o->max_bounce)) return;
+            double u[3];
+            for (int j = 0; j < 3; ++j) u[j] = vbl_rng_uniform(&rng);
             vbl_vec3 wi;
-            if (!vbl_media_scatter(scene, comps, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
+            if (!vbl_medium_scatter(&mp, d, u, &wi, NULL, &phi)) return;
             if (!vbl_photon_continues(&phi, phi0, k >= 1, &rng)) return;
             x = vbl_v3_madd(x, d, t);
             d = wi;
