@@ -236,7 +236,7 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
         if (M >= 0 && vertex > M - 2) return;
         double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
         vbl_vec3 wi;
-        if (!vbl_media_scatter(scene, comps, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
+        if (!vbl_media_scatter_at(scene, comps, x, cursor->time, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
         if (!vbl_photon_continues(&phi, phi0, vertex >= 2, rng)) return;
         d = wi;
     }

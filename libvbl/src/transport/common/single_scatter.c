@@ -47,7 +47,7 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         if (!(sigma_t > 0.0)) continue;
         vbl_light_sample ls;
         if (!vbl_light_sample_incident(light, x, 0.5, 0.5, &ls)) continue;
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, ls.wi));
+        vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, ls.wi));
         if (vbl_v3_max_component(kernel) <= 0.0 || vbl_v3_max_component(ls.li) <= 0.0) continue;
         double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, t0, t, &ctx->tracking, rng);
         if (!(T_camera > 0.0)) continue;
@@ -69,7 +69,7 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
         vbl_light_sample ls;
         if (!vbl_light_sample_incident(light, x, u1, u2, &ls)) continue;
-        vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, ls.wi));
+        vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, ls.wi));
         if (vbl_v3_max_component(kernel) <= 0.0 || vbl_v3_max_component(ls.li) <= 0.0) continue;
         double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
         vbl_ss_add(radiance, kernel, ls.li, T_light / (ls.pdf * sigma_t));

@@ -80,7 +80,7 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     if (!(sigma_t > 0.0)) return;
     vbl_light_sample ls;
     if (!vbl_light_sample_incident(light, x, 0.5, 0.5, &ls) || !(vbl_v3_max_component(ls.li) > 0.0)) return;
-    vbl_vec3 kernel = vbl_media_scatter_kernel(scene, components, vbl_v3_dot(direction, ls.wi));
+    vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, ls.wi));
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
     double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, t0, t, &ctx->tracking, rng);
     if (!(T_camera > 0.0)) return;
