@@ -276,7 +276,7 @@ static void test_vector_grid_errors(void** state)
 #define HALF_T (0.5 / 24.0)
 #define MOVING(velocity, render)                                                                                  \
     "{\"fps\": 24, \"camera\": {\"position\": [0.35, -60, 0.35], \"look_at\": [0.35, 0, 0.35], "                  \
-    "\"fov_deg\": 0.561, \"resolution\": [32, 2], \"shutter\": [-0.5, 0.5]}, \"media\": [{\"vdb\": "             \
+    "\"fov_deg\": 0.2805, \"resolution\": [32, 2], \"shutter\": [-0.5, 0.5]}, \"media\": [{\"vdb\": "             \
     "\"FIX/moving.vdb\", \"density_scale\": 2, \"albedo\": 0, \"emission\": {\"grid\": \"emission\"}" velocity "}]" \
     render "}"
 
@@ -320,7 +320,7 @@ static void test_motion_closed_form(void** state)
     vbl_scene* scene = must_load(MOVING(", \"velocity\": {}", ""));
     assert_true(scene->motion);
     assert_true(fabs(scene->shutter_open + HALF_T) < 1e-15 && fabs(scene->shutter_close - HALF_T) < 1e-15);
-    vbl_film* film = render(scene, VBL_RENDER_PT, 1, 512, 21, 2);
+    vbl_film* film = render(scene, VBL_RENDER_PT, 1, 256, 21, 2);
     int c = 0, cv = 0;
     const float* p = vbl_film_layer(film, "", &c);
     const float* var = vbl_film_layer(film, "variance", &cv);
@@ -442,6 +442,73 @@ static void test_motion_identity_and_determinism(void** state)
     vbl_scene_release(moving);
 }
 
+/* A frame sequence with motion blur end to end: moving.####.vdb (frames 1-3, links to the
+ * fixture), the medium placed per frame by transform_frames 0.5 units further along +x each
+ * frame, its velocity (scaled to 12 units/s = 0.5 units per frame at 24 fps) blurring each frame
+ * over the shutter. Every frame renders finite, with motion, and the image's centroid moves by
+ * 0.5 units per frame (the medium's frame placement; the blur is symmetric about it). */
+static void test_motion_sequence(void** state)
+{
+    (void)state;
+    const char* fixtures = getenv("VBL_FIXTURE_DIR");
+    char target[512], link_path[600];
+    snprintf(target, sizeof target, "%s/moving.vdb", fixtures ? fixtures : ".");
+    for (int f = 1; f <= 3; ++f) {
+        snprintf(link_path, sizeof link_path, "%s/moving.%04d.vdb", rt_temp_dir, f);
+        FILE* in = fopen(target, "rb");
+        FILE* out = fopen(link_path, "wb");
+        assert_non_null(in);
+        assert_non_null(out);
+        char buf[65536];
+        size_t n;
+        while ((n = fread(buf, 1, sizeof buf, in)) > 0) assert_int_equal(fwrite(buf, 1, n, out), n);
+        fclose(in);
+        fclose(out);
+    }
+    const char* json =
+        "{\"fps\": 24, \"camera\": {\"position\": [0.85, -60, 0.35], \"look_at\": [0.85, 0, 0.35], "
+        "\"fov_deg\": 0.2805, \"resolution\": [32, 2]}, \"media\": [{\"vdb\": \"moving.####.vdb\", "
+        "\"density_scale\": 2, \"albedo\": 0, \"emission\": {\"grid\": \"emission\"}, "
+        "\"velocity\": {\"scale\": 0.208333333333333333}, \"transform_frames\": {"
+        "\"1\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], \"3\": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}}]}";
+    char path[512];
+    rt_write_file(rt_temp_dir, "sequence.json", json, path);
+    double centroid[3];
+    for (int f = 1; f <= 3; ++f) {
+        vbl_scene_load_options lo;
+        memset(&lo, 0, sizeof lo);
+        lo.size = sizeof lo;
+        lo.use_frame = 1;
+        lo.frame = f;
+        vbl_scene* scene = NULL;
+        vbl_result r = vbl_scene_load_ex(path, &lo, &scene);
+        if (r) printf("frame %d: %s\n", f, vbl_last_error_message());
+        assert_int_equal(r, VBL_SUCCESS);
+        assert_true(scene->motion);
+        assert_true(fabs(scene->media[0].velocity.max_speed - 12.0) < 1e-3);
+        vbl_film* film = render(scene, VBL_RENDER_PT, 1, 64, 9, 2);
+        int c = 0;
+        const float* p = vbl_film_layer(film, "", &c);
+        const int w = vbl_film_width(film), h = vbl_film_height(film);
+        double sum = 0.0, moment = 0.0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double v = p[(y * w + x) * c];
+                assert_true(isfinite(v) && v >= 0.0);
+                sum += v;
+                moment += v * (x + 0.5);
+            }
+        assert_true(sum > 0.0);
+        /* pixels -> world x: the image spans 4.7 units over 32 pixels, centred on x = 0.85 */
+        centroid[f - 1] = 0.85 + (moment / sum - 16.0) * (4.7 / 32.0);
+        printf("frame %d: centroid x %.4f\n", f, centroid[f - 1]);
+        vbl_film_release(film);
+        vbl_scene_release(scene);
+    }
+    /* the box's centre is at 0.35 + 0.5 (f - 1) */
+    for (int f = 0; f < 3; ++f) assert_true(fabs(centroid[f] - (0.35 + 0.5 * f)) < 0.03);
+}
+
 int main(int argc, char** argv)
 {
     if (argc > 1) cmocka_set_test_filter(argv[1]); /* one test by name (timing, debugging) */
@@ -452,6 +519,7 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_motion_closed_form),
         cmocka_unit_test(test_motion_majorant_bound),
         cmocka_unit_test(test_motion_identity_and_determinism),
+        cmocka_unit_test(test_motion_sequence),
     };
     return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }
