@@ -132,11 +132,14 @@ int vbl_cmd_info(int argc, char** argv)
             const int vector_role = role && (!strcmp(role, "albedo") || !strcmp(role, "velocity"));
             const size_t len = strlen(d->name);
             const int component = len > 2 && d->name[len - 2] == '.' && strchr("xyz", d->name[len - 1]);
-            printf("    %-16s %s%s\n", "role:", role ? role : "none (name it in the scene to use it)",
-                   vector_role && vector ? " (vector: x, y, z components)"
-                   : vector_role && component && !strcmp(role, "velocity") ? " (one component of a float triplet)"
-                   : !strcmp(role ? role : "", "velocity") && !vector ? " (needs a vec3s grid or a .x/.y/.z triplet)"
-                   : vector && !vector_role ? " (a vector grid: this role needs a float grid)" : "");
+            const char* detail = "";
+            if (!role && vector) detail = " (a vector grid: name it as a medium's albedo.grid or velocity.grid)";
+            else if (!role) detail = " (name it in the scene to use it)";
+            else if (vector_role && vector) detail = " (vector: x, y, z components)";
+            else if (vector_role && component && !strcmp(role, "velocity")) detail = " (one component of a float triplet)";
+            else if (!strcmp(role, "velocity")) detail = " (needs a vec3s grid or a .x/.y/.z triplet)";
+            else if (vector) detail = " (a vector grid: this role needs a float grid)";
+            printf("    %-16s %s%s\n", "role:", role ? role : "none", detail);
             printf("    %-16s %s\n", "codec:", d->codec);
             if (!d->is_float) {
                 printf("    %-16s %.17g %.17g %.17g\n", "voxel size:", d->voxel_size[0], d->voxel_size[1], d->voxel_size[2]);
