@@ -15,6 +15,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "temp_scene.h"
 #include "vbl/vbl.h"
 
 #define W 12
@@ -26,13 +27,9 @@ static int setup(void** state)
 {
     (void)state;
     const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    char dir[] = "/tmp/vbl_film_compositing_XXXXXX";
-    if (!fixtures || !mkdtemp(dir)) return -1;
-    snprintf(scene_path, sizeof scene_path, "%s/scene.json", dir);
-    FILE* f = fopen(scene_path, "w");
-    if (!f) return -1;
+    if (!fixtures) return -1;
     /* fov 50 so that the corners of the frame miss the box */
-    fprintf(f,
+    return vbl_test_temp_scene_write("vbl_film_compositing", scene_path, sizeof scene_path,
             "{\"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 50,"
             " \"resolution\": [%d, %d]},\n"
             " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.3, 0.5, -0.8], \"irradiance\": [2.0, 1.8, 1.5]},"
@@ -40,16 +37,12 @@ static int setup(void** state)
             " \"media\": [{\"vdb\": \"%s/box.vdb\", \"density_scale\": 3.0, \"albedo\": [0.9, 0.8, 0.7]}],\n"
             " \"render\": {\"passes\": 2, \"spp\": 2, \"seed\": 9}}\n",
             W, H, env[0], env[1], env[2], fixtures);
-    fclose(f);
-    return 0;
 }
 
 static int teardown(void** state)
 {
     (void)state;
-    unlink(scene_path);
-    char* slash = strrchr(scene_path, '/');
-    if (slash) *slash = 0, rmdir(scene_path);
+    vbl_test_temp_scene_remove(scene_path);
     return 0;
 }
 

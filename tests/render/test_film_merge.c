@@ -17,6 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "temp_scene.h"
 #include "vbl/vbl.h"
 
 static char scene_path[1024];
@@ -25,12 +26,8 @@ static int setup(void** state)
 {
     (void)state;
     const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    char dir[] = "/tmp/vbl_film_merge_XXXXXX";
-    if (!fixtures || !mkdtemp(dir)) return -1;
-    snprintf(scene_path, sizeof scene_path, "%s/scene.json", dir);
-    FILE* f = fopen(scene_path, "w");
-    if (!f) return -1;
-    fprintf(f,
+    if (!fixtures) return -1;
+    return vbl_test_temp_scene_write("vbl_film_merge", scene_path, sizeof scene_path,
             "{\"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40,"
             " \"resolution\": [12, 9]},\n"
             " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.3, 0.5, -0.8], \"irradiance\": [2.0, 1.8, 1.5]},"
@@ -39,16 +36,12 @@ static int setup(void** state)
             " \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],\n"
             " \"render\": {\"passes\": 4, \"spp\": 2, \"seed\": 5, \"light_paths\": 40}}\n",
             fixtures);
-    fclose(f);
-    return 0;
 }
 
 static int teardown(void** state)
 {
     (void)state;
-    unlink(scene_path);
-    char* slash = strrchr(scene_path, '/');
-    if (slash) *slash = 0, rmdir(scene_path);
+    vbl_test_temp_scene_remove(scene_path);
     return 0;
 }
 

@@ -24,6 +24,17 @@ static vbl_result vbl_render_validate(const vbl_scene* scene, const vbl_render_o
 
 /* Single estimates of T need an uncached estimator; the cached kinds map to their counterparts
  * (both unbiased) and stay in options.transmittance for methods that build caches. */
+/* The estimators that transport the light of emissive media (docs/readme/emission.md): pt, and
+ * the virtual-light and beam methods through photons from the media and
+ * vbl_camera_media_emission. Others (test estimators) refuse emissive scenes. */
+static int vbl_estimator_renders_emission(const vbl_estimator* est)
+{
+    static const char* const names[] = {"pt", "vpl", "vrl", "vbl", "beams"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+        if (strcmp(est->name, names[i]) == 0) return 1;
+    return 0;
+}
+
 static vbl_transmittance_estimator vbl_uncached(vbl_transmittance_estimator e)
 {
     if (e == VBL_TRANSMITTANCE_CACHED_DELTA) return VBL_TRANSMITTANCE_DELTA_TRACKING;
@@ -203,9 +214,10 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                          "%s: the scene has an albedo grid, which only methods 'pt' and 'vrl' (media only) render so far "
                          "(not '%s')",
                          scene->path, est->name);
-    if (scene->has_emission && strcmp(est->name, "pt") != 0)
+    if (scene->has_emission && !vbl_estimator_renders_emission(est))
         return vbl_error(VBL_ERROR_UNSUPPORTED,
-                         "%s: the scene has emissive media, which only method 'pt' renders so far (not '%s')",
+                         "%s: the scene has emissive media, which estimator '%s' does not render (pt, vpl, vrl, vbl "
+                         "and beams do)",
                          scene->path, est->name);
 
     if (options->light_groups && scene->light_group_count > 0)

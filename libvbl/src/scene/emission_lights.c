@@ -13,7 +13,9 @@
 void vbl_emission_lights_free(vbl_emission_lights* lights)
 {
     free(lights->blocks);
+    free(lights->point_cdf);
     lights->blocks = NULL;
+    lights->point_cdf = NULL;
     lights->count = 0;
 }
 
@@ -105,9 +107,57 @@ vbl_result vbl_emission_lights_build(vbl_emission_lights* lights, const vbl_scen
                     e->center = c;
                     e->radius = r;
                     e->power = le * dmax * (4.0 / 3.0) * VBL_PI * r * r * r;
+                    e->medium = i;
+                    for (int a = 0; a < 3; ++a) {
+                        e->index_lo[a] = g->origin[a] + (double)lo[a] * g->block;
+                        e->index_hi[a] = g->origin[a] + (double)hi[a] * g->block;
+                    }
+                    e->bound = le * dmax;
+                    /* the parallelepiped on the edges from corner 0 (corners 1, 2, 4: +x, +y, +z) */
+                    vbl_vec3 ex = vbl_v3_sub(corners[1], corners[0]), ey = vbl_v3_sub(corners[2], corners[0]);
+                    vbl_vec3 ez = vbl_v3_sub(corners[4], corners[0]);
+                    e->volume = fabs(vbl_v3_dot(ex, vbl_v3_cross(ey, ez)));
                 }
     }
+    if (lights->count == 0) return VBL_SUCCESS;
+    lights->point_cdf = malloc(((size_t)lights->count + 1) * sizeof *lights->point_cdf);
+    if (!lights->point_cdf) {
+        vbl_emission_lights_free(lights);
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for emission blocks", scene->path);
+    }
+    lights->point_cdf[0] = 0.0;
+    for (int i = 0; i < lights->count; ++i) {
+        double w = lights->blocks[i].bound * lights->blocks[i].volume;
+        lights->point_cdf[i + 1] = lights->point_cdf[i] + (w > 0.0 && isfinite(w) ? w : 0.0);
+    }
     return VBL_SUCCESS;
+}
+
+int vbl_emission_lights_pick_point(const vbl_emission_lights* lights, const vbl_scene* scene, double u,
+                                   const double u3[3], vbl_vec3* x, double* prob)
+{
+    if (lights->count == 0 || !lights->point_cdf) return -1;
+    const double total = lights->point_cdf[lights->count];
+    if (!(total > 0.0)) return -1;
+    /* the first block whose cdf passes u total (binary search), skipping empty ones */
+    const double target = u * total;
+    int lo = 0, hi = lights->count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (lights->point_cdf[mid + 1] > target) hi = mid;
+        else lo = mid + 1;
+    }
+    while (lo > 0 && !(lights->point_cdf[lo + 1] > lights->point_cdf[lo])) --lo;
+    const double w = lights->point_cdf[lo + 1] - lights->point_cdf[lo];
+    if (!(w > 0.0)) return -1;
+    const vbl_emission_block* b = &lights->blocks[lo];
+    const vbl_medium* m = &scene->media[b->medium];
+    double idx[3];
+    for (int a = 0; a < 3; ++a) idx[a] = b->index_lo[a] + u3[a] * (b->index_hi[a] - b->index_lo[a]);
+    vbl_vec3 wp = vbl_affine_point(&m->volume->index_to_world, vbl_v3(idx[0], idx[1], idx[2]));
+    *x = vbl_affine_point(&m->volume_to_scene, wp);
+    *prob = w / total;
+    return lo;
 }
 
 /* Selection weight of a block at x: power / max(d^2, r^2). */

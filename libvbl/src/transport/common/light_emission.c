@@ -4,6 +4,8 @@
 
 #include <math.h>
 
+#include "media/media_emission.h"
+#include "media/medium_grids.h"
 #include "sampling/sphere.h"
 #include "volume/volume.h"
 #include "scene/lights.h"
@@ -196,6 +198,7 @@ double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_
     s->center = center;
     s->radius = radius;
     s->cdf[0] = 0.0;
+    s->media_power = 0.0;
     for (int i = 0; i < scene->light_count; ++i) {
         double p = vbl_light_power(&scene->lights[i], center, radius);
         s->cdf[i + 1] = s->cdf[i] + (p > 0.0 && isfinite(p) ? p : 0.0);
@@ -203,23 +206,93 @@ double vbl_photon_source_init(vbl_photon_source* s, const vbl_scene* scene, vbl_
     return s->cdf[scene->light_count];
 }
 
-int vbl_photon_emit(const vbl_photon_source* s, const vbl_scene* scene, size_t paths, vbl_rng* rng,
-                    vbl_emission_sample* es, vbl_vec3* phi)
+double vbl_photon_source_add_media(vbl_photon_source* s, const vbl_scene* scene)
 {
-    const double total = s->cdf[scene->light_count];
+    double p = vbl_media_emission_power(scene);
+    s->media_power = p > 0.0 && isfinite(p) ? p : 0.0;
+    return s->cdf[scene->light_count] + s->media_power;
+}
+
+double vbl_media_emission_power(const vbl_scene* scene)
+{
+    const vbl_emission_lights* el = &scene->emission_lights;
+    if (!scene->has_emission || el->count == 0 || !el->point_cdf) return 0.0;
+    return 4.0 * VBL_PI * el->point_cdf[el->count];
+}
+
+int vbl_media_sample_emission(const vbl_scene* scene, const vbl_extinction* extinction, vbl_extinction_cursor* cursor,
+                              vbl_emission_cursor* emission, const double u[7], vbl_emission_sample* out)
+{
+    const vbl_emission_lights* el = &scene->emission_lights;
+    vbl_vec3 x;
+    double prob = 0.0;
+    int b = vbl_emission_lights_pick_point(el, scene, u[0], u + 1, &x, &prob);
+    if (b < 0 || !(prob > 0.0)) return 0;
+    const vbl_emission_block* blk = &el->blocks[b];
+    const int m = blk->medium;
+    const vbl_medium* med = &scene->media[m];
+    double comps[VBL_MAX_MEDIA] = {0};
+    vbl_extinction_eval(extinction, cursor, x, comps);
+    const double st = comps[m];
+    if (!(st > 0.0)) return 0;
+    vbl_vec3 le = vbl_medium_le(scene, emission, m, x);
+    const vbl_vec3 a = med->albedo_volume[0] ? vbl_medium_albedo_at(scene, m, x, emission->time) : med->albedo;
+    vbl_vec3 e = vbl_v3(st * (1.0 - a.x) * le.x, st * (1.0 - a.y) * le.y, st * (1.0 - a.z) * le.z);
+    const double emax = vbl_v3_max_component(e);
+    if (!(emax > 0.0)) return 0;
+    double q = blk->bound > 0.0 ? fmin(1.0, emax / blk->bound) : 1.0;
+    if (!(u[4] < q)) return 0;
+    double pdf_dir = 0.0;
+    out->origin = x;
+    out->direction = vbl_sample_uniform_sphere(u[5], u[6], &pdf_dir);
+    if (!(pdf_dir > 0.0)) return 0;
+    /* e / (pdf_x pdf_dir q), pdf_x = prob / volume */
+    out->flux = vbl_v3_scale(e, blk->volume / (prob * pdf_dir * q));
+    return 1;
+}
+
+/* vbl_photon_emit with or without the media (cursors NULL: lights only). */
+static int vbl_photon_emit_from(const vbl_photon_source* s, const vbl_scene* scene, const vbl_extinction* extinction,
+                                vbl_extinction_cursor* cursor, vbl_emission_cursor* emission, size_t paths,
+                                vbl_rng* rng, vbl_emission_sample* es, vbl_vec3* phi)
+{
+    const double lights = s->cdf[scene->light_count];
+    const double media = emission ? s->media_power : 0.0;
+    const double total = lights + media;
     double target = vbl_rng_uniform(rng) * total;
-    int pick = -1;
-    for (int i = 0; i < scene->light_count; ++i)
-        if (s->cdf[i + 1] > s->cdf[i]) {
-            pick = i;
-            if (target < s->cdf[i + 1]) break;
-        }
-    if (pick < 0) return 0;
-    double select_pdf = (s->cdf[pick + 1] - s->cdf[pick]) / total;
-    double u[4];
-    for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(rng);
-    if (!vbl_light_sample_emission(&scene->lights[pick], s->center, s->radius, u, es)) return 0;
+    double select_pdf = 0.0;
+    if (media > 0.0 && !(target < lights)) {
+        double u[7];
+        for (int k = 0; k < 7; ++k) u[k] = vbl_rng_uniform(rng);
+        if (!vbl_media_sample_emission(scene, extinction, cursor, emission, u, es)) return 0;
+        select_pdf = media / total;
+    } else {
+        int pick = -1;
+        for (int i = 0; i < scene->light_count; ++i)
+            if (s->cdf[i + 1] > s->cdf[i]) {
+                pick = i;
+                if (target < s->cdf[i + 1]) break;
+            }
+        if (pick < 0) return 0;
+        select_pdf = (s->cdf[pick + 1] - s->cdf[pick]) / total;
+        double u[4];
+        for (int k = 0; k < 4; ++k) u[k] = vbl_rng_uniform(rng);
+        if (!vbl_light_sample_emission(&scene->lights[pick], s->center, s->radius, u, es)) return 0;
+    }
     *phi = vbl_v3_scale(es->flux, 1.0 / (select_pdf * (double)paths));
     const double phi0 = vbl_v3_max_component(*phi);
     return phi0 > 0.0 && isfinite(phi0);
+}
+
+int vbl_photon_emit(const vbl_photon_source* s, const vbl_scene* scene, size_t paths, vbl_rng* rng,
+                    vbl_emission_sample* es, vbl_vec3* phi)
+{
+    return vbl_photon_emit_from(s, scene, NULL, NULL, NULL, paths, rng, es, phi);
+}
+
+int vbl_photon_emit_with_media(const vbl_photon_source* s, const vbl_scene* scene, const vbl_extinction* extinction,
+                               vbl_extinction_cursor* cursor, vbl_emission_cursor* emission, size_t paths,
+                               vbl_rng* rng, vbl_emission_sample* es, vbl_vec3* phi)
+{
+    return vbl_photon_emit_from(s, scene, extinction, cursor, emission, paths, rng, es, phi);
 }

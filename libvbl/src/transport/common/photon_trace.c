@@ -8,7 +8,8 @@
 #include "core/error.h"
 #include "transport/common/radius_schedule.h"
 #include "sampling/phase_hg.h"
-#include "media/media.h"
+#include "media/medium.h"
+#include "media/medium_grids.h"
 #include "transport/common/light_emission.h"
 #include "volume/transmittance_cache.h"
 
@@ -140,8 +141,8 @@ static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surfac
     return 1;
 }
 
-static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_transmittance_cache* tmp,
-                          vbl_rng* rng, vbl_photon_block* blk)
+static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_emission_cursor* emission,
+                          vbl_transmittance_cache* tmp, vbl_rng* rng, vbl_photon_block* blk)
 {
     const vbl_render_context* ctx = sh->ctx;
     const vbl_scene* scene = ctx->scene;
@@ -150,16 +151,18 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     const int M = ctx->options.max_bounces;
     const int use_global = ctx->tracking.use_global_majorant;
 
-    /* light selection proportional to power */
+    /* light (or emissive media) selection proportional to power */
     vbl_emission_sample es;
     vbl_vec3 phi;
-    if (!vbl_photon_emit(&sh->source, scene, (size_t)ctx->options.light_paths, rng, &es, &phi)) return;
+    if (!vbl_photon_emit_with_media(&sh->source, scene, ext, cursor, emission, (size_t)ctx->options.light_paths, rng,
+                                    &es, &phi))
+        return;
     const double phi0 = vbl_v3_max_component(phi);
 
     vbl_vec3 x = es.origin, d = es.direction;
     int prev_specular = 0; /* the previous vertex was a highly specular surface (caustics) */
     double comps[VBL_MAX_MEDIA] = {0};
-    double mid_comps[VBL_MAX_MEDIA] = {0};
+    vbl_medium_point mp; /* what scatters at a vertex / at a VRL's middle (media/medium.h) */
     for (int k = 0;; ++k) {
         double t0 = 0.0, t1 = 0.0, t_surface = INFINITY;
         vbl_surface_hit hit; /* the segment ends at the first surface (see photon_trace.h) */
@@ -188,8 +191,8 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
                 if (scene->media_count == 1) {
                     r->g = scene->media[0].g;
                 } else {
-                    vbl_extinction_eval(ext, cursor, vbl_v3_madd(x, d, 0.5 * (t0 + end)), mid_comps);
-                    r->g = vbl_media_mean_g(scene, mid_comps);
+                    vbl_medium_query(scene, ext, cursor, vbl_v3_madd(x, d, 0.5 * (t0 + end)), &mp);
+                    r->g = vbl_medium_mean_g(&mp);
                 }
                 r->bounce = k;
                 r->cache_count = 0;
@@ -220,6 +223,8 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
         prev_specular = 0;
         x = vbl_v3_madd(x, d, t);
         const int vertex = k + 1;
+        vbl_medium_point_from_components(scene, comps, &mp);
+        vbl_medium_point_apply_grids(scene, x, cursor->time, &mp); /* albedo grids */
         if (st->store_vpls && (M < 0 || vertex <= M - 1)) {
             if (!vbl_grow((void**)&blk->vpls, &blk->vpl_cap, blk->vpl_count + 1, sizeof(vbl_vpl))) {
                 blk->failed = 1;
@@ -230,13 +235,15 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
             p->incident = d;
             p->power = phi;
             for (int i = 0; i < VBL_MAX_MEDIA; ++i) p->fraction[i] = i < scene->media_count ? comps[i] / sigma_t : 0.0;
-            p->g = vbl_media_mean_g(scene, comps);
+            p->g = vbl_medium_mean_g(&mp);
             p->bounce = vertex;
         }
         if (M >= 0 && vertex > M - 2) return;
         double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
         vbl_vec3 wi;
-        if (!vbl_media_scatter_at(scene, comps, x, cursor->time, sigma_t, d, u0, u1, u2, &wi, NULL, &phi)) return;
+        double pdf = 0.0;
+        if (!vbl_medium_phase_sample(&mp, d, u0, u1, u2, &wi, &pdf)) return;
+        phi = vbl_v3_scale(vbl_v3_mul(phi, vbl_medium_phase_kernel(&mp, vbl_v3_dot(d, wi))), 1.0 / (pdf * sigma_t));
         if (!vbl_photon_continues(&phi, phi0, vertex >= 2, rng)) return;
         d = wi;
     }
@@ -283,7 +290,8 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     const int M = ctx->options.max_bounces;
     /* surfaces-only scenes still need light paths for the surface VSLs and caustics */
     const int surface_paths = store_surface_vsls && scene->surfaces != NULL;
-    if (n <= 0 || scene->light_count == 0 || (ctx->extinction->count == 0 && !surface_paths) || (M >= 0 && M < 2))
+    if (n <= 0 || (scene->light_count == 0 && !scene->has_emission) || (ctx->extinction->count == 0 && !surface_paths) ||
+        (M >= 0 && M < 2))
         return VBL_SUCCESS;
 
     vbl_trace_shared sh;
@@ -297,7 +305,9 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     double radius = 0.0;
     /* emit towards the media and the surfaces (without media only with surface paths: above) */
     if (!vbl_photon_emission_sphere(scene, 1, &center, &radius)) return VBL_SUCCESS;
-    if (!(vbl_photon_source_init(&sh.source, scene, center, radius) > 0.0)) return VBL_SUCCESS;
+    double power = vbl_photon_source_init(&sh.source, scene, center, radius);
+    if (scene->has_emission) power = vbl_photon_source_add_media(&sh.source, scene); /* photons from the fire too */
+    if (!(power > 0.0)) return VBL_SUCCESS;
 
     const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;
     vbl_photon_block* blk = calloc((size_t)blocks, sizeof *blk);
@@ -308,6 +318,8 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     {
         vbl_extinction_cursor cursor;
         vbl_extinction_cursor_init(&cursor, ctx->extinction);
+        vbl_emission_cursor emission;
+        if (scene->has_emission) vbl_emission_cursor_init(&emission, scene);
         vbl_transmittance_cache* tmp = settings->long_vrls ? malloc(sizeof *tmp) : NULL;
 #pragma omp for schedule(dynamic, 1)
         for (int b = 0; b < blocks; ++b) {
@@ -322,7 +334,7 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
             int end = (b + 1) * VBL_PHOTON_BLOCK < n ? (b + 1) * VBL_PHOTON_BLOCK : n;
             for (int i = b * VBL_PHOTON_BLOCK; i < end && !blk[b].failed; ++i) {
                 vbl_rng rng = vbl_rng_make(seed, ctx->pass, (uint64_t)i);
-                vbl_trace_one(&sh, &cursor, tmp, &rng, &blk[b]);
+                vbl_trace_one(&sh, &cursor, &emission, tmp, &rng, &blk[b]);
             }
         }
         free(tmp);

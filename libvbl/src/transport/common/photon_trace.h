@@ -6,6 +6,13 @@
  * with probability proportional to vbl_light_power; its emission sample (light_emission.h) has
  * flux weight F, so the photon starts with power Phi_0 = F / (select_pdf * light_paths): summing
  * over the light_paths paths of a pass gives an unbiased estimate of the emitted flux.
+ * Emissive media are one more source, selected by the bound on their power
+ * (vbl_photon_source_add_media): the photon starts at an emitting point inside them, sampled by
+ * sigma_a Le over the blocks of pt's emission light sampling, in a uniform direction
+ * (light_emission.h); its walk is a light's walk from there, so its records carry fire light
+ * that scattered k times exactly as a light's do (what scattered at most once at the camera
+ * comes from vbl_camera_media_emission, emission_estimate.h). Scenes without emission draw the
+ * same numbers as before.
  *
  * Walk: segment k (k = 0 straight from the light) runs from the light / vertex k into the media
  * (clipped to the media bounds along the ray). A delta-tracking free flight (density

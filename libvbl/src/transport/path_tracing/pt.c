@@ -15,7 +15,8 @@
  * Emissive media (docs/readme/emission.md) add the emission term int_0^s T sigma_a Le dt of the
  * RTE: at every tentative collision of the free flight (null or real) the walk adds
  * beta sigma_a Le / mu (vbl_free_flight_sample_visit; the null-scattering emission estimator of
- * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2);
+ * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2; transport/common/emission_estimate.h,
+ * with the light sampling of the emissive media);
  * seen directly it goes to volume_emission, after scattering to the class of that vertex. A
  * scene without emission takes the plain free flight (decided once per scene). */
 #include "transport/path_tracing/pt.h"
@@ -27,6 +28,7 @@
 #include "media/media.h"
 #include "media/medium.h"
 #include "media/medium_grids.h"
+#include "transport/common/emission_estimate.h"
 #include "transport/path_tracing/pt_equiangular.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
@@ -105,76 +107,6 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
             w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, vertex, direction));
         vbl_add_scaled(L, beta, light->color, w);
     }
-}
-
-/* Visitor state of the emission estimator along one free flight. */
-typedef struct vbl_pt_emission {
-    const vbl_scene* scene;
-    vbl_emission_cursor* cursor;
-    vbl_vec3 beta;  /* throughput times MIS weight */
-    vbl_vec3* L;
-} vbl_pt_emission;
-
-static void vbl_pt_emission_visit(void* user, vbl_vec3 p, double mu, const double* per_component)
-{
-    vbl_pt_emission* e = user;
-    vbl_vec3 em = vbl_media_emission(e->scene, e->cursor, p, per_component);
-    vbl_add_scaled(e->L, e->beta, em, 1.0 / mu);
-}
-
-/* Emission arriving at a vertex along unit wi from `origin` (estimated by one tracking ray up to
- * the first surface or real collision), times beta into *L. */
-static void vbl_pt_collect_emission(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 wi,
-                                    vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
-{
-    const vbl_scene* scene = ctx->scene;
-    vbl_surface_hit hit;
-    double t_surface = vbl_surfaces_intersect(scene->surfaces, origin, wi, 0.0, INFINITY, &hit) ? hit.t : INFINITY;
-    double components[VBL_MAX_MEDIA] = {0}, t = 0.0, sigma_t = 0.0;
-    vbl_pt_emission e = {scene, &ts->emission, beta, L};
-    vbl_ctx_free_flight_visit(ctx, ts, origin, wi, t_surface, rng, &t, &sigma_t, components, vbl_pt_emission_visit, &e);
-}
-
-/* NEE towards emissive media at a medium vertex x (docs/readme/emission.md "Light sampling"):
- * a direction from the block cone mixture, the emission along it, MIS against the phase
- * function unless this is the path's last vertex (then nothing continues: weight 1). */
-static void vbl_pt_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x,
-                                       vbl_vec3 travel, double sigma_t, const vbl_medium_point* mp, int last,
-                                       const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
-{
-    const vbl_scene* scene = ctx->scene;
-    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf;
-    vbl_vec3 wi;
-    if (!vbl_emission_lights_sample(&scene->emission_lights, x, u0, u1, u2, &wi, &pdf)) return;
-    double cos_theta = vbl_v3_dot(travel, wi);
-    vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
-    if (!(vbl_v3_max_component(kernel) > 0.0)) return;
-    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_medium_phase_pdf(mp, cos_theta));
-    double s = w / (pdf * sigma_t);
-    vbl_vec3 b = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
-    vbl_pt_collect_emission(ctx, ts, x, wi, b, rng, &out->L[vbl_pt_class(path)]);
-}
-
-/* The same at a surface vertex (wo towards the previous vertex). */
-static void vbl_pt_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
-                                        vbl_vec3 wo, int last, const vbl_pt_path* path, vbl_vec3 beta, vbl_rng* rng,
-                                        vbl_sample_value* out)
-{
-    const vbl_scene* scene = ctx->scene;
-    const vbl_material* m = &scene->materials[hit->material];
-    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf;
-    vbl_vec3 wi;
-    if (!vbl_emission_lights_sample(&scene->emission_lights, hit->position, u0, u1, u2, &wi, &pdf)) return;
-    if (!(vbl_v3_dot(wi, hit->geometric_normal) > 0.0)) return;
-    double cos_i = vbl_v3_dot(wi, hit->shading_normal);
-    if (!(cos_i > 0.0)) return;
-    vbl_vec3 f = vbl_material_eval(m, hit->shading_normal, wo, wi);
-    if (!(vbl_v3_max_component(f) > 0.0)) return;
-    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_material_pdf(m, hit->shading_normal, wo, wi));
-    double s = w * cos_i / pdf;
-    vbl_vec3 b = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
-    vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, wi);
-    vbl_pt_collect_emission(ctx, ts, origin, wi, b, rng, &out->L[vbl_pt_class(path)]);
 }
 
 /* Picks one light uniformly and samples it from x (the light pair of scattering event `bounce`);
@@ -298,10 +230,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             if (path.events > 0 && emission_nee)
                 w = vbl_mis_weight(ctx->options.mis, prev_pdf,
                                    vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
-            vbl_pt_emission e = {scene, &ts->emission, vbl_v3_scale(beta, w),
-                                 &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
+            vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
+                                          &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
             collided = vbl_ctx_free_flight_visit(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components,
-                                                 vbl_pt_emission_visit, &e);
+                                                 vbl_emission_visit, &e);
         } else {
             collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
         }
@@ -333,7 +265,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             if (scene->has_emission && emission_nee)
-                vbl_pt_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, &path, beta, rng, out);
+                vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
             u0 = vbl_rng_uniform(rng);
@@ -347,7 +279,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             if (scene->has_emission && emission_nee)
-                vbl_pt_emission_nee_surface(ctx, ts, &hit, wo, last, &path, beta, rng, out);
+                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
             const vbl_material* m = &scene->materials[hit.material];

@@ -8,6 +8,7 @@
 #include "transport/common/radius_schedule.h"
 #include "media/media.h"
 #include "transport/photon_beams/beam_bvh.h"
+#include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
 #include "transport/photon_beams/photon_beam_kernel.h"
 #include "volume/transmittance_cache.h"
@@ -249,6 +250,7 @@ void vbl_photon_beams_camera_sample(const vbl_render_context* ctx, const void* s
 {
     const vbl_photon_beams_store* s = store;
     vbl_add_visible_emission(ctx, ts, sample->origin, sample->direction, rng, out);
+    vbl_camera_media_emission(ctx, ts, sample, 0, rng, out); /* the fire's bounce-0 beams: its volume_direct */
     if (!s || ctx->options.max_bounces == 0) return;
     vbl_photon_beam_gather_eval(ctx, s->gather, ts, sample->origin, sample->direction, sample->t_max, rng, out);
 }

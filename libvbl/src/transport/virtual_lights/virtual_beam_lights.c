@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "transport/common/radius_schedule.h"
 #include "sampling/beam_light_pair.h"
+#include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
 #include "transport/photon_beams/photon_beams.h"
 #include "transport/common/photon_trace.h"
@@ -259,6 +260,8 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     const int beams_direct = s && s->settings.beams_single_scattering;
+    vbl_camera_media_emission(ctx, ts, sample, (beams_direct ? 0 : VBL_EMISSION_DIRECT_VOLUME) | VBL_EMISSION_DIRECT_SURFACE,
+                              rng, out); /* with beams_direct the fire's bounce-0 beams are its volume_direct */
     if (!beams_direct && M != 0)
         vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);

@@ -10,6 +10,7 @@
 #include "sampling/vrl_pair.h"
 #include "media/media.h"
 #include "media/medium.h"
+#include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
 #include "transport/common/photon_trace.h"
 #include "transport/common/single_scatter.h"
@@ -322,6 +323,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const vbl_vec3 o = sample->origin, d = sample->direction;
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
+    vbl_camera_media_emission(ctx, ts, sample, VBL_EMISSION_DIRECT_VOLUME | VBL_EMISSION_DIRECT_SURFACE, rng, out);
     if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
