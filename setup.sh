@@ -14,8 +14,9 @@ packages=(
   libcjson-dev libpng-dev libcmocka-dev openimageio-tools libassimp-dev
 )
 # only for `./setup.sh test`: the Slurm integration test (tests/pipeline), benchmark plots and the
-# documentation site (tests/docs: MkDocs + Doxygen)
-test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib mkdocs doxygen blender)
+# documentation site (tests/docs: MkDocs + Doxygen); blender, python3-openimageio and
+# python3-openvdb also for the Cycles reference kit (bench/race_cycles)
+test_packages=(slurm-wlm slurmctld slurmd munge python3-matplotlib mkdocs doxygen blender python3-openimageio python3-openvdb)
 
 install_missing_packages() {
   local missing=()

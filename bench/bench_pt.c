@@ -4,9 +4,12 @@
  *
  *   build/bench/bench_pt [--scene bench/scenes/smoky_lambert_room.json] [--res 64x48] [--spp 64]
  *       [--reference-seconds 120] [--threads 2] [--configs eq_off,eq_on,...] [--vdb build/samples/cloud.vdb]
+ *       [--seed 1]
  *
  * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
- * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales).
+ * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
+ * tr_mid*: pt.shadow_transmittance = residual-mid; every other row sets it to render), eq_quads /
+ * eq_quads_mid (pt.equiangular_quads on).
  * Every configuration renders --spp passes of 1 sample per pixel with the same seed. Per layer it
  * prints rMAE (sum |I - Iref| / sum |Iref|) and rMAE scaled to the first configuration's CPU time,
  * rMAE * sqrt(c / c_first) (noise falls as 1/sqrt(samples), so this is the error it would reach in
@@ -30,24 +33,34 @@ typedef struct bench_config {
     vbl_transmittance_estimator shadow; /* options.transmittance */
     double majorant_scale;              /* options.transmittance_majorant_scale (0: default) */
     vbl_pt_sampler sampler;             /* options.pt_sampler */
+    vbl_pt_shadow_transmittance pt_shadow; /* options.pt.shadow_transmittance */
+    int equiangular_quads;              /* options.pt.equiangular_quads */
 } bench_config;
 
 static const bench_config bench_configs[] = {
-    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT},
-    {"eq_off_sobol", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL},
-    {"eq_on_sobol", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL},
+    {"eq_off", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on_balance", 1, VBL_MIS_BALANCE, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_delta", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_DELTA_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_march", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RAY_MARCHING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_ratio_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"tr_residual_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_off_sobol", 0, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER, 0},
+    {"eq_on_sobol", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_SOBOL, VBL_PT_SHADOW_RENDER, 0},
+    /* issue 14 item 4: residual ratio tracking with the mid-bound control (pt.shadow_transmittance) */
+    {"tr_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    {"tr_mid_k8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 8.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 0},
+    /* issue 14 item 1: quad lights in the equiangular NEE (pt.equiangular_quads) */
+    {"eq_quads", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 1},
+    {"eq_quads_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 
@@ -57,6 +70,7 @@ int main(int argc, char** argv)
     const char* configs = "eq_off,eq_on";
     const char* vdb = VBL_BENCH_DEFAULT_VDB;
     int width = 64, height = 48, spp = 64, threads = 2;
+    unsigned long long seed = 1;
     double reference_seconds = 120.0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
@@ -69,6 +83,7 @@ int main(int argc, char** argv)
         else if (!strcmp(a, "--configs")) configs = v;
         else if (!strcmp(a, "--vdb")) vdb = v;
         else if (!strcmp(a, "--spp")) spp = atoi(v);
+        else if (!strcmp(a, "--seed")) seed = strtoull(v, NULL, 10);
         else if (!strcmp(a, "--threads")) threads = atoi(v);
         else if (!strcmp(a, "--reference-seconds")) reference_seconds = atof(v);
         else if (!strcmp(a, "--res")) {
@@ -87,7 +102,7 @@ int main(int argc, char** argv)
                                  reference_seconds, 0};
     bench_reference ref;
     bench_reference_make(scene, &q, &ref);
-    printf("# %s %dx%d, %d spp (1 per pass), %d threads; reference %.0f s\n", scene_file, width, height, spp, threads,
+    printf("# %s %dx%d, %d spp (1 per pass), %d threads, seed %llu; reference %.0f s\n", scene_file, width, height, spp, threads, seed,
            ref.seconds);
     printf("%-14s %8s %8s", "config", "wall_s", "cpu_s");
     for (int l = 0; l < BENCH_LAYERS; ++l)
@@ -106,10 +121,12 @@ int main(int argc, char** argv)
         o.method = VBL_RENDER_PT;
         o.spp = 1;
         o.passes = spp;
-        o.seed = 1;
+        o.seed = seed;
         o.threads = threads;
         o.pt.equiangular = bc->equiangular;
         o.pt.sampler = bc->sampler;
+        o.pt.shadow_transmittance = bc->pt_shadow;
+        o.pt.equiangular_quads = bc->equiangular_quads;
         o.mis = bc->mis;
         o.transmittance = bc->shadow;
         if (bc->majorant_scale > 0.0) o.transmittance_majorant_scale = bc->majorant_scale;

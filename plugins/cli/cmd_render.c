@@ -64,6 +64,7 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
     load.camera = args->camera;
     load.width = args->width;
     load.height = args->height;
+    load.cancel = vbl_render_cancel_pointer(); /* SIGINT/SIGTERM while loading media */
     vbl_render_output_scene_load_options(output, &load);
     vbl_scene* scene = NULL;
     r = vbl_scene_load_ex(args->scene_path, &load, &scene);
@@ -116,6 +117,11 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
         vbl_render_output_destroy(output);
         return code;
     }
+
+    char limits[4096];
+    if (vbl_render_limits(scene, &options, limits, sizeof limits) > 0) /* documented limits: render.md */
+        for (char* line = strtok(limits, "\n"); line; line = strtok(NULL, "\n"))
+            fprintf(stderr, "vbl render: warning: %s\n", line);
 
     int w = 0, h = 0;
     vbl_scene_resolution(scene, &w, &h);

@@ -1,4 +1,5 @@
 /* `vbl`: entry point, --help/--version and sub-command dispatch. */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,7 +31,9 @@ static void vbl_cli_print_help(FILE* out)
             vbl_version_string());
     for (size_t i = 0; i < sizeof vbl_cli_commands / sizeof vbl_cli_commands[0]; ++i)
         fprintf(out, "  %-14s %s\n", vbl_cli_commands[i].name, vbl_cli_commands[i].summary);
-    fprintf(out, "\n'vbl <command> --help' describes a command's options.\n");
+    fprintf(out, "\n'vbl <command> --help' describes a command's options.\n"
+                 "Every command takes --memory-limit SIZE (e.g. 8G, 512M, 50%%; default VBL_MEMORY_LIMIT or 3/4 of\n"
+                 "the physical memory): inputs and films needing more are refused (exit 3) before allocating.\n");
 }
 
 int vbl_cli_exit_code(vbl_result result)
@@ -58,8 +61,49 @@ int vbl_cli_fail(vbl_result result)
     return vbl_cli_exit_code(result);
 }
 
+/* --memory-limit SIZE / --memory-limit=SIZE anywhere before a "--" (every command), taken out of argv;
+ * a malformed VBL_MEMORY_LIMIT is a usage error too. Returns -1 when fine, else the exit code. */
+static int vbl_cli_take_memory_limit(int* argc, char** argv)
+{
+    const char* env = getenv("VBL_MEMORY_LIMIT");
+    uint64_t bytes = 0;
+    if (env && env[0] && vbl_parse_memory_size(env, &bytes) != VBL_SUCCESS) {
+        fprintf(stderr, "vbl: VBL_MEMORY_LIMIT: %s\n", vbl_last_error_message());
+        return VBL_EXIT_USAGE;
+    }
+    int out = 1;
+    for (int a = 1; a < *argc; ++a) {
+        if (!strcmp(argv[a], "--")) {
+            while (a < *argc) argv[out++] = argv[a++];
+            break;
+        }
+        const char* value = NULL;
+        if (!strcmp(argv[a], "--memory-limit")) {
+            if (a + 1 >= *argc) {
+                fprintf(stderr, "vbl: --memory-limit needs a size (e.g. 8G, 512M, 50%%)\n");
+                return VBL_EXIT_USAGE;
+            }
+            value = argv[++a];
+        } else if (!strncmp(argv[a], "--memory-limit=", 15)) {
+            value = argv[a] + 15;
+        } else {
+            argv[out++] = argv[a];
+            continue;
+        }
+        if (vbl_parse_memory_size(value, &bytes) != VBL_SUCCESS || vbl_set_memory_limit(bytes) != VBL_SUCCESS) {
+            fprintf(stderr, "vbl: --memory-limit: %s\n", vbl_last_error_message());
+            return VBL_EXIT_USAGE;
+        }
+    }
+    argv[out] = NULL;
+    *argc = out;
+    return -1;
+}
+
 int main(int argc, char** argv)
 {
+    const int limit_code = vbl_cli_take_memory_limit(&argc, argv);
+    if (limit_code >= 0) return limit_code;
     if (argc < 2) {
         vbl_cli_print_help(stderr);
         return VBL_EXIT_USAGE;

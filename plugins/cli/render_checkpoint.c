@@ -49,6 +49,8 @@ void vbl_render_signals(int install)
 
 int vbl_render_interrupted(void) { return vbl_render_signalled != 0; }
 
+const volatile int* vbl_render_cancel_pointer(void) { return &vbl_render_cancel_flag; }
+
 double vbl_render_now(void)
 {
     struct timespec ts;

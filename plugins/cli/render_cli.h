@@ -103,6 +103,8 @@ vbl_result vbl_render_run(const vbl_scene* scene, const vbl_render_options* opti
 void vbl_render_signals(int install);
 /* 1 after SIGINT/SIGTERM since vbl_render_signals(1) (the frame loop stops). */
 int vbl_render_interrupted(void);
+/* The cancel flag the signal handler sets (for vbl_scene_load_options.cancel too). */
+const volatile int* vbl_render_cancel_pointer(void);
 
 /* Monotonic clock in seconds. */
 double vbl_render_now(void);

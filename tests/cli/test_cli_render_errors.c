@@ -1,5 +1,6 @@
 /* `vbl render` bad input: one clear message naming the file/field on stderr, the documented exit
- * code (2 usage/colour space, 3 scene/VDB, 4 cannot write) and no output file. */
+ * code (2 usage/colour space, 3 scene/VDB, 4 cannot write) and no output file; and the documented
+ * limits: a warning line on stderr, the render still runs. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -146,6 +147,46 @@ static void test_bad_colour_space_and_flags(void** state)
     expect_failure(args, 2, "--vsl-lights", 1);
 }
 
+/* A documented limit (vbl_render_limits, render.md "Limits at the extremes") is one warning line
+ * on stderr and the render still runs: g 0.999 with vpl warns naming the field, pt does not. */
+static void test_limit_warnings(void** state)
+{
+    (void)state;
+    const char* scene = ct_path(dir, "scene.json");
+    ct_write_scene(scene, 4, 3, NULL);
+    FILE* f = fopen(scene, "r");
+    char text[4096];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = 0;
+    fclose(f);
+    char* g = strstr(text, "\"g\": 0.3}");
+    assert_non_null(g);
+    char edited[4200];
+    snprintf(edited, sizeof edited, "%.*s\"g\": 0.999}%s", (int)(g - text), text, g + strlen("\"g\": 0.3}"));
+    ct_write_file(scene, edited);
+    static const char* const methods[2] = {"vpl", "pt"};
+    for (int k = 0; k < 2; ++k) {
+        char args[4096];
+        snprintf(args, sizeof args, "'%s' -o '%s' -q --method %s --passes 1 --spp 1 --light-paths 64 --threads 1",
+                 scene, ct_path(dir, "out.exr"), methods[k]);
+        char* log = NULL;
+        int got = ct_render(args, &log);
+        if (got != 0) fail_msg("vbl render %s: exit %d, output:\n%s", args, got, log ? log : "");
+        const char* w = log ? strstr(log, "vbl render: warning: ") : NULL;
+        if (k == 0) {
+            if (!w || !strstr(w, "media[0] phase g = 0.999") || !strstr(w, "method 'vpl'"))
+                fail_msg("vbl render %s: no g warning, output:\n%s", args, log ? log : "");
+            /* one line for the one limit */
+            const char* end = strchr(w, '\n');
+            assert_non_null(end);
+            assert_null(strstr(end, "warning:"));
+        } else if (w) {
+            fail_msg("vbl render %s: unexpected warning, output:\n%s", args, log);
+        }
+        free(log);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -154,6 +195,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_missing_vdb, setup_each, teardown_each),
         cmocka_unit_test_setup_teardown(test_unwritable_output, setup_each, teardown_each),
         cmocka_unit_test_setup_teardown(test_bad_colour_space_and_flags, setup_each, teardown_each),
+        cmocka_unit_test_setup_teardown(test_limit_warnings, setup_each, teardown_each),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -365,6 +365,208 @@ static void test_ply_headers(void** state)
     assert_mesh(write_all("neg_bin.ply", bin, n), VBL_ERROR_CORRUPT_FILE, "face 1 uses vertex");
 }
 
+/* ---- OpenVDB root counts --------------------------------------------------------------------------- */
+
+/* box.vdb's tree: buffer count 1, background 0, then the root's tile and child counts (0 and 1). */
+static long root_counts_at(const unsigned char* data, size_t size)
+{
+    const uint32_t head[5] = {1, 0, 0, 1, 0};
+    long at = find_bytes(data, size, head, 16, 0);
+    return at < 0 ? -1 : at + 8;
+}
+
+/* 2^32 - 1 root tiles (RootNode::readTopology looped for minutes over an exhausted stream) and
+ * 2^32 - 1 root children (a 264 KB node allocated and leaked per iteration): refused before OpenVDB
+ * reads the tree, so nothing is allocated or leaked (the sanitizer build checks leaks). */
+static void test_root_counts(void** state)
+{
+    (void)state;
+    size_t size = 0;
+    unsigned char* data = read_all(fixture("box.vdb"), &size);
+    const long at = root_counts_at(data, size);
+    assert_true(at > 0);
+    const uint32_t huge = 0xffffffffu;
+    memcpy(data + at, &huge, 4);
+    const char* path = write_all("root_tiles.vdb", data, size);
+    assert_volume_fails(path, VBL_ERROR_CORRUPT_FILE, "root tile count 4294967295");
+    assert_cli_exit_3(path);
+    const uint32_t zero = 0;
+    memcpy(data + at, &zero, 4);
+    memcpy(data + at + 4, &huge, 4);
+    path = write_all("root_children.vdb", data, size);
+    assert_volume_fails(path, VBL_ERROR_CORRUPT_FILE, "child count 4294967295");
+    /* Every child bit of the upper node set: OpenVDB read 32768 lower nodes from the leaf data and
+     * threw on a garbage compressed size, leaking the nodes read so far (0.3-1.3 MB); the topology
+     * walk refuses it first (the sanitizer build's leak check fails without the walk). */
+    memcpy(data + at, &zero, 4);
+    const uint32_t one = 1;
+    memcpy(data + at + 4, &one, 4);
+    memset(data + at + 8 + 12, 0xff, 4096);
+    path = write_all("child_mask.vdb", data, size);
+    assert_volume_fails(path, VBL_ERROR_CORRUPT_FILE, "grid 'density' topology: ");
+    assert_cli_exit_3(path);
+    free(data);
+    data = read_all(fixture("box.vdb"), &size);
+    /* Two children where the grid holds one: the second would read past the grid. */
+    const uint32_t two = 2;
+    memcpy(data + at + 4, &two, 4);
+    path = write_all("root_two.vdb", data, size);
+    vbl_volume* v = NULL;
+    assert_int_not_equal(vbl_volume_load(path, NULL, &v), VBL_SUCCESS);
+    assert_null(v);
+    free(data);
+}
+
+/* ---- Memory limit ------------------------------------------------------------------------------------ */
+
+static void test_parse_memory_size(void** state)
+{
+    (void)state;
+    uint64_t b = 0;
+    assert_int_equal(vbl_parse_memory_size("4G", &b), VBL_SUCCESS);
+    assert_true(b == (uint64_t)4 << 30);
+    assert_int_equal(vbl_parse_memory_size("512MiB", &b), VBL_SUCCESS);
+    assert_true(b == (uint64_t)512 << 20);
+    assert_int_equal(vbl_parse_memory_size("1.5GB", &b), VBL_SUCCESS);
+    assert_true(b == (uint64_t)3 << 29);
+    assert_int_equal(vbl_parse_memory_size("100k", &b), VBL_SUCCESS);
+    assert_true(b == 102400);
+    assert_int_equal(vbl_parse_memory_size("2000000", &b), VBL_SUCCESS);
+    assert_true(b == 2000000);
+    assert_int_equal(vbl_parse_memory_size("50%", &b), VBL_SUCCESS);
+    assert_true(b > 0);
+    const char* bad[] = {"", "x", "5Q", "-1", "0", "101%", "1GX", " 4G", "nan", "1e30T"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i)
+        if (vbl_parse_memory_size(bad[i], &b) != VBL_ERROR_INVALID_ARGUMENT) fail_msg("'%s' parsed", bad[i]);
+    assert_int_equal(vbl_parse_memory_size("\x01G", &b), VBL_ERROR_INVALID_ARGUMENT);
+    assert_message("\\x01G", NULL);
+    assert_int_equal(vbl_set_memory_limit(1000), VBL_ERROR_INVALID_ARGUMENT);
+    assert_true(vbl_memory_limit() >= ((uint64_t)256 << 20)); /* the default */
+}
+
+/* `vbl ARGS` exits with `code` and its stderr contains `text`. */
+static void assert_cli(const char* args, int code, const char* text)
+{
+    const char* bin = getenv("VBL_BINARY_DIR");
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd, "'%s/bin/vbl' %s 2>&1 >/dev/null", bin ? bin : "build", args);
+    FILE* p = popen(cmd, "r");
+    assert_non_null(p);
+    char out[4096] = "";
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = '\0';
+    int status = pclose(p);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != code || !strstr(out, text))
+        fail_msg("vbl %s: status %d, want exit %d with '%s'; output %s", args, status, code, text, out);
+}
+
+/* Inputs that fit their files but not the limit are refused before the allocation (exit 3); with
+ * the limit back to its default the same inputs load. */
+static void test_memory_limit(void** state)
+{
+    (void)state;
+    const uint64_t limit = 100 << 10;
+    assert_int_equal(vbl_set_memory_limit(limit), VBL_SUCCESS);
+    assert_true(vbl_memory_limit() == limit);
+    /* NanoVDB: a 322 KB grid */
+    assert_volume_fails(fixture("box.nvdb"), VBL_ERROR_UNSUPPORTED, "more than the memory limit of 0.1 MiB");
+    /* OpenVDB: a 12 KB file whose tree is 0.3 MB (file_mem_bytes) */
+    assert_volume_fails(fixture("box.vdb"), VBL_ERROR_UNSUPPORTED, "file_mem_bytes");
+    /* EXR: 128 x 128 x 3 floats = 192 KiB of pixels */
+    static float pixels[128 * 128 * 3];
+    vbl_exr_layer layer = {"", 3, NULL, pixels, 0};
+    vbl_exr_write_options o = VBL_EXR_WRITE_OPTIONS_DEFAULT;
+    const char* exr = temp_path("limit.exr");
+    assert_int_equal(vbl_exr_write(exr, 128, 128, &layer, 1, &o), VBL_SUCCESS);
+    vbl_exr_image* image = NULL;
+    assert_int_equal(vbl_exr_read(exr, &image), VBL_ERROR_UNSUPPORTED);
+    assert_null(image);
+    assert_message(exr, "dataWindow 128 x 128 with 3 channels needs 0.2 MiB, more than the memory limit of 0.1 MiB");
+    /* PLY: 1000 vertices of 3 properties (about 160 KB in assimp) */
+    const char* head = "ply\nformat ascii 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\n"
+                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    size_t cap = strlen(head) + 1000 * 8 + 64, n = 0;
+    char* text = malloc(cap);
+    assert_non_null(text);
+    n += (size_t)snprintf(text + n, cap - n, "%s", head);
+    for (int i = 0; i < 1000; ++i) n += (size_t)snprintf(text + n, cap - n, "%d 0 %d\n", i & 1, i >> 1 & 1);
+    n += (size_t)snprintf(text + n, cap - n, "3 0 1 2\n");
+    const char* ply = write_all("limit.ply", text, n);
+    free(text);
+    vbl_mesh_data mesh;
+    assert_int_equal(vbl_mesh_load(ply, &mesh, NULL), VBL_ERROR_UNSUPPORTED);
+    assert_message(ply, "importing the PLY elements");
+    /* back to the default: all of them load */
+    assert_int_equal(vbl_set_memory_limit(0), VBL_SUCCESS);
+    vbl_volume* v = NULL;
+    assert_int_equal(vbl_volume_load(fixture("box.nvdb"), NULL, &v), VBL_SUCCESS);
+    vbl_volume_release(v);
+    assert_int_equal(vbl_volume_load(fixture("box.vdb"), NULL, &v), VBL_SUCCESS);
+    vbl_volume_release(v);
+    assert_int_equal(vbl_exr_read(exr, &image), VBL_SUCCESS);
+    vbl_exr_image_release(image);
+    assert_int_equal(vbl_mesh_load(ply, &mesh, NULL), VBL_SUCCESS);
+    vbl_mesh_data_free(&mesh);
+    /* the CLI: --memory-limit on any command (exit 3 for the input, 2 for a bad size) */
+    char args[8400];
+    snprintf(args, sizeof args, "info --memory-limit 100K '%s'", fixture("box.nvdb"));
+    assert_cli(args, 3, "more than the memory limit of 0.1 MiB (--memory-limit / VBL_MEMORY_LIMIT)");
+    snprintf(args, sizeof args, "info --memory-limit=100K '%s'", fixture("box.vdb"));
+    assert_cli(args, 3, "file_mem_bytes");
+    snprintf(args, sizeof args, "info --memory-limit 8Q '%s'", fixture("box.vdb"));
+    assert_cli(args, 2, "--memory-limit: memory size '8Q' has an unknown unit");
+    snprintf(args, sizeof args, "diff --memory-limit 100K '%s' '%s'", exr, exr);
+    assert_cli(args, 3, "more than the memory limit");
+    snprintf(args, sizeof args, "info '%s'", fixture("box.vdb"));
+    assert_cli(args, 0, "");
+    /* a 4000 x 4000 render: its accumulators (and their pass copy) need GBs */
+    const char* src = getenv("VBL_SOURCE_DIR");
+    snprintf(args, sizeof args, "render '%s/samples/cloud.json' --vdb '%s' --resolution 4000x4000 --passes 1 --memory-limit 256M -o '%s'",
+             src ? src : ".", fixture("box.vdb"), temp_path("limit_render.exr"));
+    assert_cli(args, 3, "the accumulators of a 4000x4000 film needs");
+}
+
+/* ---- Cancelled loads ------------------------------------------------------------------------------ */
+
+/* A cancel flag raised (a signal while loading) stops a volume or scene load at its next step with
+ * VBL_ERROR_INTERRUPTED and nothing kept (the sanitizer build checks leaks); cleared, both load. */
+static void test_load_cancel(void** state)
+{
+    (void)state;
+    volatile int cancel = 1;
+    const char* files[] = {fixture("box.vdb"), fixture("box.nvdb")};
+    for (int f = 0; f < 2; ++f) {
+        vbl_volume_load_options o = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+        o.cancel = &cancel;
+        vbl_volume* v = NULL;
+        cancel = 1;
+        assert_int_equal(vbl_volume_load(files[f], &o, &v), VBL_ERROR_INTERRUPTED);
+        assert_null(v);
+        assert_message(files[f], "load cancelled");
+        cancel = 0;
+        assert_int_equal(vbl_volume_load(files[f], &o, &v), VBL_SUCCESS);
+        vbl_volume_release(v);
+    }
+    char scene[8192];
+    snprintf(scene, sizeof scene,
+             "{\"camera\": {\"position\": [0, -5, 0.8], \"look_at\": [0.8, 0.8, 0.8], \"up\": [0, 0, 1], \"fov_deg\": 30, "
+             "\"resolution\": [8, 8]}, \"lights\": [{\"type\": \"environment\", \"radiance\": [1, 1, 1]}], "
+             "\"media\": [{\"vdb\": \"%s\", \"albedo\": 0.5}, {\"vdb\": \"%s\", \"albedo\": 0.5}]}",
+             fixture("box.vdb"), fixture("box.nvdb"));
+    const char* path = write_text("cancel.json", scene);
+    vbl_scene_load_options lo = VBL_SCENE_LOAD_OPTIONS_DEFAULT;
+    lo.cancel = &cancel;
+    vbl_scene* sc = NULL;
+    cancel = 1;
+    assert_int_equal(vbl_scene_load_ex(path, &lo, &sc), VBL_ERROR_INTERRUPTED);
+    assert_null(sc);
+    assert_message(path, "load cancelled before media[0]");
+    cancel = 0;
+    assert_int_equal(vbl_scene_load_ex(path, &lo, &sc), VBL_SUCCESS);
+    assert_int_equal(vbl_scene_medium_count(sc), 2);
+    vbl_scene_release(sc);
+}
+
 /* With VBL_FUZZ_KEEP=DIR the inputs are written there and kept: the fuzz targets' corpus replay
  * (tests/fuzz/CMakeLists.txt) runs every one of them through the same entry points. */
 static int g_keep;
@@ -400,6 +602,8 @@ int main(void)
         cmocka_unit_test(test_blosc_size_bomb),  cmocka_unit_test(test_names_quoted),
         cmocka_unit_test(test_nanovdb_name),     cmocka_unit_test(test_nanovdb_sizes),
         cmocka_unit_test(test_exr_data_window),  cmocka_unit_test(test_ply_headers),
+        cmocka_unit_test(test_root_counts),      cmocka_unit_test(test_parse_memory_size),
+        cmocka_unit_test(test_memory_limit),     cmocka_unit_test(test_load_cancel),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

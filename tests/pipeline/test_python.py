@@ -12,6 +12,7 @@ import subprocess
 import sys
 import tempfile
 import unittest
+import warnings
 
 try:
     import numpy
@@ -219,6 +220,25 @@ class TestRender(unittest.TestCase):
             vbl.render(scene, method="bogus")
         with self.assertRaises(vbl.VblError):
             vbl.render(scene, not_an_option=1)
+
+    def test_render_limits_warn(self):
+        # g 0.999 with vpl: one documented limit (vbl_render_limits), warned by render(); none for pt
+        media = [{"vdb": BOX, "density_scale": 3.0, "albedo": [0.9, 0.8, 0.7], "phase": {"type": "hg", "g": 0.999}}]
+        scene = vbl.Scene(write_scene(self.tmp.name, "forward.json", media=media))
+        limits = vbl.render_limits(scene, method="vpl")
+        self.assertEqual(len(limits), 1, limits)
+        self.assertIn("media[0] phase g = 0.999", limits[0])
+        self.assertIn("forward.json", limits[0])
+        self.assertEqual(vbl.render_limits(scene), [])  # the scene's method: pt
+        self.assertTrue(issubclass(vbl.LimitWarning, UserWarning))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            film = vbl.render(scene, method="vpl", passes=1, light_paths=64, threads=1)
+            self.assertEqual(film.stats["passes"], 1)  # the render still runs
+            vbl.render(scene, passes=1, threads=1)
+        raised = [w for w in caught if issubclass(w.category, vbl.LimitWarning)]
+        self.assertEqual([str(w.message) for w in raised], limits)
+        self.assertEqual(raised[0].filename, __file__)  # points at the caller's render()
 
     def test_merge_equals_single_render(self):
         # 1 + 3 passes merged = one render of 4, to float rounding (vbl_film_merge)

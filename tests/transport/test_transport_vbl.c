@@ -274,6 +274,76 @@ static void test_small_radius_matches_vrl(void** state)
     vt_free(vol);
 }
 
+/* R = 0 exactly (issue 13 item 4): R_0 = 5e-324 (the smallest double) underflows to R_p = 0 at
+ * passes from 1000 on (eq 11 with alpha = 0.7; options.first_pass = 1000); vbl then takes the VRL
+ * limit (the VRL sampler and f f / w^2) instead of dropping volume_from_volume, so its image
+ * agrees with `vrl`. Mutation checked: restoring the old early return at R = 0 fails it (vbl's
+ * volume_from_volume is 0). */
+static void test_zero_radius_matches_vrl(void** state)
+{
+    (void)state;
+    vbl_volume* vol;
+    vbl_scene* s = box_scene(vbl_v3(0.2, -4, 0.3), vbl_v3(0.125, 0.125, 0.125), 1.0, 0.9, 0.5, &vol, 8);
+    tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
+    vbl_beam_light_settings zero = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
+    zero.radius0 = 5e-324;
+    assert_true(vbl_radius_at_pass(zero.radius0, zero.alpha, 2, 1000) == 0.0);
+    g_fixed = zero;
+    vbl_render_options o = tt_options(2, 1, 40, 4100);
+    o.first_pass = 1000;
+    tt_stats a, b;
+    tt_replicate(s, &fixed_vbl, &o, 8, 4, &a);
+    o.seed = 5100;
+    tt_replicate(s, &vbl_estimator_vrl, &o, 8, 4, &b);
+    assert_true(a.finite && b.finite);
+    double image_z, z = tt_compare(&a, &b, 1.0, &image_z, "vbl R = 0 vs vrl");
+    assert_true(a.image_mean[1] > 0.0);
+    assert_true(z < 4.5 && image_z < 3.5);
+    vbl_scene_release(s);
+    vt_free(vol);
+}
+
+/* The optical radius's options reach the settings: vbl_radius_mfp (0: the default) and
+ * vbl_kernel_tolerance; out-of-range values are refused. */
+static void test_optical_radius_options(void** state)
+{
+    (void)state;
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    vbl_beam_light_settings st;
+    vbl_beam_light_settings_from_options(&o, &st);
+    assert_true(st.radius_mfp == VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT);
+    assert_true(st.kernel_tolerance == VBL_BEAM_LIGHT_KERNEL_TOLERANCE_DEFAULT);
+    o.beam_lights.radius_mfp = 0.25;
+    o.beam_lights.kernel_tolerance = 0.0;
+    vbl_beam_light_settings_from_options(&o, &st);
+    assert_true(st.radius_mfp == 0.25 && st.kernel_tolerance == 0.0);
+    vbl_volume* vol;
+    vbl_scene* s = box_scene(vbl_v3(0.2, -4, 0.3), vbl_v3(0, 0, 0), 8.0, 0.8, 0.3, &vol, 4);
+    tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
+    vbl_render_options r = tt_options(1, 1, 4, 1);
+    r.method = VBL_RENDER_VBL;
+    vbl_film* f = NULL;
+    r.beam_lights.kernel_tolerance = 2.0;
+    assert_int_equal(vbl_render(s, &r, &f), VBL_ERROR_INVALID_ARGUMENT);
+    r.beam_lights.kernel_tolerance = 0.01;
+    r.beam_lights.radius_mfp = -1.0;
+    assert_int_equal(vbl_render(s, &r, &f), VBL_ERROR_INVALID_ARGUMENT);
+    assert_null(f);
+    /* a different fraction changes the image (the box's mean free path 1/8 is below R_p) */
+    r = tt_options(1, 1, 8, 3);
+    r.method = VBL_RENDER_VBL;
+    r.beam_lights.radius0 = 0.5;
+    r.beam_lights.radius_mfp = 1e30;
+    vbl_film* fa = render_method(s, r);
+    r.beam_lights.radius_mfp = 0.5;
+    vbl_film* fb = render_method(s, r);
+    assert_true(layer_sum(fa, "volume_from_volume", 16) != layer_sum(fb, "volume_from_volume", 16));
+    vbl_film_release(fa);
+    vbl_film_release(fb);
+    vbl_scene_release(s);
+    vt_free(vol);
+}
+
 /* The default R_0 must not eat energy: a VSL bounds the 1/w^2 falloff inside its radius, so a
  * radius comparable to the medium's features loses near-field light (the first default, 0.1 x
  * the bounds, kept only 30% of the sample cloud's volume_from_volume). In a box with mean free
@@ -289,6 +359,9 @@ static void test_default_radius_keeps_energy(void** state)
     tt_add_point(s, vbl_v3(0.4, 0.3, 1.6), 10.0);
     vbl_render_options o = tt_options(2, 2, 200, 2300);
     o.method = VBL_RENDER_VBL;
+    /* the cone quadrature everywhere, so that both radii draw the same random numbers (the thin-cone
+     * shortcut would send the tiny radius through the VRL sampler) */
+    o.beam_lights.kernel_tolerance = 0.0;
     if (getenv("VBL_TEST_R0")) o.beam_lights.radius0 = atof(getenv("VBL_TEST_R0"));
     tt_stats a, b;
     tt_replicate(s, &vbl_estimator_vbl, &o, 6, 4, &a);
@@ -400,6 +473,8 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_extremes),
         cmocka_unit_test(test_variance_vs_vrl),
         cmocka_unit_test(test_small_radius_matches_vrl),
+        cmocka_unit_test(test_zero_radius_matches_vrl),
+        cmocka_unit_test(test_optical_radius_options),
         cmocka_unit_test(test_default_radius_keeps_energy),
     };
     const struct CMUnitTest converge[] = {cmocka_unit_test(test_convergence)};

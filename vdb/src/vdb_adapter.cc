@@ -11,6 +11,7 @@
 #include <nanovdb/NanoVDB.h>
 
 #include "core/alloc.h"
+#include "core/memory_limit.h"
 #include "vdb_internal.h"
 
 #pragma GCC visibility push(hidden) // internal to libvbl (see vdb/CMakeLists.txt)
@@ -44,6 +45,14 @@ std::string printable(const std::string& text, std::size_t keep)
         }
     }
     return out;
+}
+
+void check_memory_limit(std::uint64_t bytes, const std::string& what)
+{
+    if (bytes <= vbl_memory_limit()) return;
+    char text[512];
+    vbl_memory_limit_message(text, sizeof text, bytes, what.c_str());
+    throw Failure(VBL_ERROR_UNSUPPORTED, text);
 }
 
 void* copy_aligned(const void* data, std::size_t size)

@@ -26,6 +26,7 @@ struct GridEntry {
     std::string open_name;     // OpenVDB: unique name for io::File::readGrid ("density[1]")
     std::size_t segment_entry = 0; // NanoVDB: entry in the file's segment metadata (file order)
     std::uint32_t sub_grid = 0;    // NanoVDB: grid inside that entry's buffer
+    std::uint64_t mem_bytes = 0;   // OpenVDB: the tree's in-memory bytes as the file states them (file_mem_bytes), 0 if absent
 };
 
 enum class FileKind { OpenVdb, NanoVdb };
@@ -50,8 +51,17 @@ bool is_vec3_type(const GridEntry& entry);
 // the bytes left in the file, and restores the position.
 void check_meta_map_sizes(std::istream& is, std::streamoff file_size, const std::string& what);
 void check_descriptor_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, int32_t index);
-// The grid's metadata and transform type name, at the position after its compression flags.
-void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, const std::string& grid);
+// The grid's metadata, transform type name and (standard trees) root tile/child counts, at the
+// position after its compression flags; `tree_type` is the descriptor's ("Tree_float_5_4_3"),
+// `grid_end` where the grid's bytes end.
+void check_grid_header_sizes(std::istream& is, std::streamoff file_size, uint32_t file_version, const std::string& grid,
+                             const std::string& tree_type, std::streamoff grid_end, uint32_t compression, bool half);
+
+// Walks a float tree's topology (vdb_openvdb_topology.cc) from its first root tile to its last
+// leaf mask, decoding the internal nodes' compressed values; throws Failure(VBL_ERROR_CORRUPT_FILE)
+// on what would make OpenVDB's readTopology throw (and leak) or on repeated root child origins.
+void check_float_topology(std::istream& is, std::streamoff grid_end, uint32_t compression, bool half, uint64_t tiles,
+                          uint64_t children, const std::string& what);
 
 // NanoVDB (.nvdb): every grid in file order (multi-grid buffers expanded); reads the buffers.
 std::vector<GridEntry> nanovdb_list(const std::string& path);
@@ -60,6 +70,9 @@ void nanovdb_read_float(const std::string& path, const GridEntry& entry, void** 
 // Checks that `size` bytes at `data` (32-byte aligned) hold one well-formed NanoVDB float grid whose
 // nodes are stored level by level (the layout the core's scans rely on). Throws Failure.
 void validate_nanovdb_float_grid(const void* data, std::uint64_t size);
+
+// Throws Failure(VBL_ERROR_UNSUPPORTED) naming `what` when `bytes` exceed vbl_memory_limit().
+void check_memory_limit(std::uint64_t bytes, const std::string& what);
 
 // Copies `size` bytes into a new 32-byte aligned buffer (throws Failure on out of memory).
 void* copy_aligned(const void* data, std::size_t size);

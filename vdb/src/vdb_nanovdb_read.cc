@@ -10,6 +10,8 @@
 #include <nanovdb/util/GridChecksum.h>
 #include <nanovdb/util/IO.h>
 
+#include "core/alloc.h"
+#include "vdb_aligned_buffer.h"
 #include "vdb_internal.h"
 
 #pragma GCC visibility push(hidden) // internal to libvbl (see vdb/CMakeLists.txt)
@@ -78,6 +80,7 @@ void check_segment_sizes(std::istream& is, std::streamoff pos, std::streamoff fi
             throw Failure(VBL_ERROR_CORRUPT_FILE, what + ": grid size " + std::to_string(m.gridSize) + " bytes cannot come from its " +
                                                       std::to_string(m.fileSize) + " bytes in the file (codec " +
                                                       nanovdb::io::toStr(header.codec) + ")");
+        check_memory_limit(m.gridSize, what + " (" + std::to_string(m.gridSize) + " bytes)");
     }
     // The grids' data follow the metadata in order; compressed ones are (int64 size, bytes) chunks:
     // one for ZIP, one per started GB for BLOSC (nanovdb::io::Internal::write).
@@ -160,7 +163,7 @@ std::string grid_type_name(nanovdb::GridType type)
 
 // Walks the grids of one decoded segment entry (one or, since 32.5, several per buffer).
 template<typename F>
-void for_each_grid(const nanovdb::GridHandle<nanovdb::HostBuffer>& handle, F&& f)
+void for_each_grid(const nanovdb::GridHandle<AlignedBuffer>& handle, F&& f)
 {
     const uint8_t* base = handle.data();
     const uint64_t size = handle.size();
@@ -175,9 +178,9 @@ void for_each_grid(const nanovdb::GridHandle<nanovdb::HostBuffer>& handle, F&& f
     }
 }
 
-nanovdb::GridHandle<nanovdb::HostBuffer> read_entry(const std::string& path, std::size_t entry)
+nanovdb::GridHandle<AlignedBuffer> read_entry(const std::string& path, std::size_t entry)
 {
-    return nanovdb::io::readGrid<nanovdb::HostBuffer>(path, entry);
+    return nanovdb::io::readGrid<AlignedBuffer>(path, entry);
 }
 
 } // namespace
@@ -223,7 +226,10 @@ void nanovdb_read_float(const std::string& path, const GridEntry& entry, void** 
         if (i != entry.sub_grid) return;
         if (grid->mGridType != nanovdb::GridType::Float)
             throw Failure(VBL_ERROR_GRID_TYPE, "grid '" + std::string(entry.desc.name) + "' is " + grid_type_name(grid->mGridType) + ", not a float grid");
-        void* copy = copy_aligned(handle.data() + offset, grid->mGridSize);
+        // The only grid of its buffer (the usual case) is handed over as it is; a grid of a
+        // multi-grid buffer is copied out (the buffer is freed on return).
+        const bool whole = offset == 0 && grid->mGridCount <= 1 && grid->mGridSize == handle.size();
+        void* copy = whole ? handle.buffer().release() : copy_aligned(handle.data() + offset, grid->mGridSize);
         try {
             validate_nanovdb_float_grid(copy, grid->mGridSize);
             auto* data = static_cast<nanovdb::GridData*>(copy);
@@ -235,7 +241,7 @@ void nanovdb_read_float(const std::string& path, const GridEntry& entry, void** 
             data->mGridIndex = 0; // the copy is a buffer of its own
             data->mGridCount = 1;
         } catch (...) {
-            std::free(copy);
+            vbl_aligned_free(copy);
             throw;
         }
         *buffer = copy;

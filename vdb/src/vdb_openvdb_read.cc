@@ -12,6 +12,7 @@
 #include <nanovdb/util/OpenToNanoVDB.h>
 
 #include "core/alloc.h"
+#include "vdb_aligned_buffer.h"
 #include "vdb_internal.h"
 
 #pragma GCC visibility push(hidden) // internal to libvbl (see vdb/CMakeLists.txt)
@@ -81,7 +82,8 @@ public:
                         item.compression_known = true;
                     }
                 }
-                if (is) check_grid_header_sizes(is, file_size, fileVersion(), name);
+                if (is) check_grid_header_sizes(is, file_size, fileVersion(), name, item.grid_type, gd.getEndPos(),
+                                                     item.compression_known ? item.compression : compression(), item.half);
                 is.clear();
             }
             if (!item.compression_known) {
@@ -94,56 +96,6 @@ public:
         }
         return items;
     }
-};
-
-// NanoVDB buffer type that allocates with vbl_aligned_alloc, so the converted grid is handed to the core
-// without another copy (openToNanoVDB builds straight into it).
-class AlignedBuffer {
-public:
-    AlignedBuffer() = default;
-    AlignedBuffer(const AlignedBuffer&) = delete;
-    AlignedBuffer& operator=(const AlignedBuffer&) = delete;
-    AlignedBuffer(AlignedBuffer&& other) noexcept : mData(other.mData), mSize(other.mSize) { other.mData = nullptr, other.mSize = 0; }
-    AlignedBuffer& operator=(AlignedBuffer&& other) noexcept
-    {
-        if (this != &other) {
-            clear();
-            mData = other.mData;
-            mSize = other.mSize;
-            other.mData = nullptr;
-            other.mSize = 0;
-        }
-        return *this;
-    }
-    ~AlignedBuffer() { clear(); }
-    static AlignedBuffer create(uint64_t size, const AlignedBuffer* = nullptr)
-    {
-        AlignedBuffer b;
-        b.mData = static_cast<uint8_t*>(vbl_aligned_alloc(NANOVDB_DATA_ALIGNMENT, size));
-        if (!b.mData) throw std::bad_alloc();
-        b.mSize = size;
-        return b;
-    }
-    uint8_t* data() const { return mData; }
-    uint64_t size() const { return mSize; }
-    bool empty() const { return mSize == 0; }
-    void clear()
-    {
-        vbl_aligned_free(mData);
-        mData = nullptr;
-        mSize = 0;
-    }
-    void* release()
-    {
-        void* p = mData;
-        mData = nullptr;
-        mSize = 0;
-        return p;
-    }
-
-private:
-    uint8_t* mData = nullptr;
-    uint64_t mSize = 0;
 };
 
 std::string type_name(const openvdb::GridBase& grid, bool half)
@@ -220,6 +172,8 @@ std::vector<GridEntry> openvdb_list(const std::string& path, bool describe)
         set_string(e.desc.type, sizeof e.desc.type, type_name(*grid, half));
         e.desc.is_float = grid->isType<openvdb::FloatGrid>();
         set_string(e.desc.codec, sizeof e.desc.codec, codec_name(item.compression, item.compression_known));
+        if (auto mem = grid->getMetadata<openvdb::Int64Metadata>(openvdb::GridBase::META_FILE_MEM_BYTES))
+            e.mem_bytes = mem->value() > 0 ? uint64_t(mem->value()) : 0;
         openvdb::Vec3d voxel = grid->voxelSize();
         for (int a = 0; a < 3; ++a) e.desc.voxel_size[a] = voxel[a];
         if (describe) {
@@ -238,6 +192,10 @@ void openvdb_read_float(const std::string& path, const GridEntry& entry, void** 
     file.open(false);
     std::ifstream probe(path, std::ios::in | std::ios::binary | std::ios::ate);
     const std::streamoff file_size = probe ? std::streamoff(probe.tellg()) : 0;
+    // The tree and its NanoVDB copy (about the tree's size) are in memory together while converting.
+    if (entry.mem_bytes)
+        check_memory_limit(2 * entry.mem_bytes, "grid '" + printable(entry.desc.name) + "' (its tree of " + std::to_string(entry.mem_bytes) +
+                                                    " bytes in file_mem_bytes, and its NanoVDB copy)");
     openvdb::FloatGrid::Ptr grid =
         openvdb::gridPtrCast<openvdb::FloatGrid>(read_guarded(entry.open_name, file_size, [&] { return file.readGrid(entry.open_name); }));
     if (!grid) throw Failure(VBL_ERROR_GRID_TYPE, "grid '" + std::string(entry.desc.name) + "' is not a float grid");

@@ -61,6 +61,19 @@ VBL_API vbl_result vbl_report_error(vbl_result result, const char* fmt, ...)
 /* Clears the calling thread's error message. */
 VBL_API void vbl_clear_error(void);
 
+/* Memory limit (issue 18). Every size read from a file (VDB grid and chunk sizes, NanoVDB
+ * segments, EXR data windows, mesh counts) and every film is checked against it before the
+ * allocation: an input that needs more fails with VBL_ERROR_UNSUPPORTED and a message naming the
+ * file, the field and the limit, instead of taking what the machine grants. The default is
+ * VBL_MEMORY_LIMIT from the environment when set (vbl_parse_memory_size's syntax), otherwise 3/4
+ * of the physical memory (at least 256 MiB). Process-wide; safe to call from any thread. */
+VBL_API uint64_t vbl_memory_limit(void);
+/* Sets the limit in bytes; 0 restores the default. Values under 64 KiB are INVALID_ARGUMENT. */
+VBL_API vbl_result vbl_set_memory_limit(uint64_t bytes);
+/* Parses "4G", "512MiB", "1.5GB", "2000000000" (bytes), "50%" (of physical memory); K/M/G/T are
+ * powers of 1024 with or without "B"/"iB". INVALID_ARGUMENT (message quoting `text`) otherwise. */
+VBL_API vbl_result vbl_parse_memory_size(const char* text, uint64_t* out_bytes);
+
 /* Runtime version (compare with the VBL_VERSION_* macros of the header you built with). */
 VBL_API const char* vbl_version_string(void);
 VBL_API void vbl_version(int* major, int* minor, int* patch);

@@ -57,9 +57,12 @@ typedef struct vbl_scene_load_options {
      * camera's resolution (the lens keeps its vertical fov, or its focal length, sensor and fit). */
     const char* camera;
     int width, height;
+    /* Non-NULL: *cancel != 0 stops the load before the next medium or at the next step of a
+     * volume load (vbl_volume_load_options.cancel): VBL_ERROR_INTERRUPTED. */
+    const volatile int* cancel;
 } vbl_scene_load_options;
 
-#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0}
+#define VBL_SCENE_LOAD_OPTIONS_DEFAULT {sizeof(vbl_scene_load_options), NULL, 0, NULL, NULL, 0, 0, NULL, 0, 0, NULL}
 
 /* Loads a JSON scene file (schema: docs/readme/render.md). Relative paths in it resolve
  * against the scene file's directory. Failures name the file and field, e.g.
@@ -161,6 +164,17 @@ VBL_API vbl_result vbl_film_get_stats(const vbl_film* film, vbl_film_stats* out)
  * not built yet return VBL_ERROR_UNSUPPORTED. */
 VBL_API vbl_result vbl_render(const vbl_scene* scene, const vbl_render_options* options,
                               vbl_film** out_film);
+
+/* The documented limits of the methods at the extremes (docs/readme/render.md "Limits at the
+ * extremes") that `scene` rendered with `options` runs into: a near-delta phase function
+ * (|g| > 0.95) with vpl, vrl, vbl or beams, an explicit beams.radius0 or vbl.radius0 above 0.1 x the
+ * media's size, optically thick media with beams or vbl (kernel radius over 10 mean free paths) or
+ * vpl (media over 1e4 mean free paths across). Writes one line per limit (naming the scene file and the field, '\n'-terminated)
+ * into `message` (NULL or size 0: none written; truncated to size) and returns how many (0: none).
+ * These renders still run (the CLI prints each line as a warning); vbl_render refuses only
+ * beams.radius0 below 1e-4 x the media's size (VBL_ERROR_INVALID_ARGUMENT). */
+VBL_API int vbl_render_limits(const vbl_scene* scene, const vbl_render_options* options, char* message,
+                              size_t size);
 
 /* Inside the pass callback only: a film of the passes completed so far (what vbl_render would
  * return if it stopped now), e.g. to write a checkpoint without stopping. Release it. */

@@ -62,6 +62,14 @@ typedef enum vbl_pt_sampler {
     VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
 } vbl_pt_sampler;
 
+/* pt's NEE shadow-ray transmittance (render.pt.shadow_transmittance; docs/readme/sampling.md
+ * "Shadow-ray transmittance"). */
+typedef enum vbl_pt_shadow_transmittance {
+    VBL_PT_SHADOW_DEFAULT = 0,      /* = residual-mid (measured: docs/readme/sampling.md) */
+    VBL_PT_SHADOW_RENDER = 1,       /* the render's `transmittance` estimator */
+    VBL_PT_SHADOW_RESIDUAL_MID = 2  /* residual ratio tracking, control = the block mid-bound */
+} vbl_pt_shadow_transmittance;
+
 /* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
 typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_RATIO = 0, /* ratio tracking (unbiased) */
@@ -179,7 +187,16 @@ typedef enum vbl_render_option_effect {
       HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
     X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
       0, 1, 0, "independent|sobol", HASH,                                                                    \
-      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")
+      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")   \
+    X(pt., pt_shadow_transmittance, shadow_transmittance, vbl_pt_shadow_transmittance, ENUM,                 \
+      "pt.shadow_transmittance", "--pt-shadow-transmittance", VBL_PT_SHADOW_DEFAULT, 0, 2, 0,                \
+      "default|render|residual-mid", HASH,                                                                   \
+      "pt: NEE shadow rays' transmittance: the `transmittance` estimator (render), or residual ratio tracking " \
+      "with the majorant block's mid-bound as control (residual-mid, unbiased; default = residual-mid)")                                                   \
+    X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
+      "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
+      "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \
+      "the collision's NEE and phase sampling)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
@@ -221,7 +238,15 @@ typedef enum vbl_render_option_effect {
     X(beam_lights., vbl_single_scattering, single_scattering, vbl_single_scattering, ENUM,                   \
       "vbl.single_scattering", "--vbl-single-scattering", VBL_SINGLE_SCATTERING_DEFAULT, 0, 2,               \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, "default|equiangular|beams", HASH,                   \
-      "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")
+      "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")                 \
+    X(beam_lights., vbl_radius_mfp, radius_mfp, double, DOUBLE, "vbl.radius_mfp", "--vbl-radius-mfp", 0.0, 0, \
+      INFINITY, VBL_OPTION_ZERO_DEFAULT, NULL, HASH,                                                         \
+      "vbl: VSL radius cap in mean free paths at the VSL, R = min(R_world, f / sigma_t(x)), shrunk per pass " \
+      "like R_world (default 0: 1; 1e30: world units only)")                                              \
+    X(beam_lights., vbl_kernel_tolerance, kernel_tolerance, double, DOUBLE, "vbl.kernel_tolerance",          \
+      "--vbl-kernel-tolerance", 0.01, 0, 1, 0, NULL, HASH,                                                   \
+      "vbl: relative error bound of the thin-cone VSL kernel (the VRL kernel where R/w is small; 0: always " \
+      "the cone quadrature)")
 
 /* beams (progressive photon beams, also vbl's beam single scattering): options.beams */
 #define VBL_RENDER_OPTIONS_BEAMS(X, F)                                                                       \

@@ -27,10 +27,14 @@ typedef struct vbl_volume_load_options {
                                         when grid_name is NULL) in file order; -1: first match */
     vbl_bad_voxel_policy bad_voxels; /* NaN/Inf/negative voxels: reject (default) or sanitize */
     int majorant_block_size;         /* majorant block edge in voxels; 0 = library default */
+    /* Non-NULL: set *cancel to non-zero (e.g. from a signal handler) to stop the load at its next
+     * step (after the file read, the value scan, the majorant build): VBL_ERROR_INTERRUPTED, nothing
+     * kept. The file read itself (OpenVDB's readGrid and conversion) is not interrupted. */
+    const volatile int* cancel;
 } vbl_volume_load_options;
 
 /* Defaults: grid "density" (else the only float grid), first match, reject bad voxels. */
-#define VBL_VOLUME_LOAD_OPTIONS_DEFAULT {sizeof(vbl_volume_load_options), NULL, -1, VBL_BAD_VOXELS_REJECT, 0}
+#define VBL_VOLUME_LOAD_OPTIONS_DEFAULT {sizeof(vbl_volume_load_options), NULL, -1, VBL_BAD_VOXELS_REJECT, 0, NULL}
 
 /* Loads a float grid from an OpenVDB (.vdb) or NanoVDB (.nvdb) file. */
 VBL_API vbl_result vbl_volume_load(const char* path, const vbl_volume_load_options* options,

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/memory_limit.h"
 
 #define VBL_PLY_MAX_HEADER 65536
 #define VBL_PLY_MAX_ELEMENTS 64
@@ -258,6 +259,13 @@ vbl_result vbl_mesh_check_ply(const char* path)
         r = format == 0 ? vbl_ply_check_ascii(f, path, elements, element_count, vertices)
                         : vbl_ply_check_binary(f, path, elements, element_count, format == 2, vertices);
     }
+    /* Counts that fit the file still go against the memory limit: assimp's PLY reader keeps every
+     * element with its properties (a value and a vector per property, about 64 + 32 bytes each)
+     * before building the mesh. */
+    uint64_t import_bytes = 0;
+    for (int e = 0; !r && e < element_count; ++e)
+        import_bytes += elements[e].count * (64u + 32u * (uint64_t)elements[e].property_count);
+    if (!r) r = vbl_memory_check(import_bytes, path, "importing the PLY elements (estimated)");
     free(elements);
     fclose(f);
     return r;

@@ -3,12 +3,15 @@
  * depends on the thread count), running-mean film, alpha/Z AOVs, time limit and cancel. */
 #include <math.h>
 #include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "core/memory_limit.h"
 #include "film/film.h"
 #include "render/render_internal.h"
+#include "render/render_limits.h"
 #include "sampling/sobol.h"
 #include "transport/common/estimator.h"
 #include "transport/path_tracing/pt.h"
@@ -204,6 +207,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_result r = vbl_render_validate(scene, options);
     if (r) return r;
     if (!out_film || !est) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
+    if ((r = vbl_limits_check_radius(scene, options, est->name))) return r;
     if (scene->motion && options->motion_blur && strcmp(est->name, "pt") != 0)
         return vbl_error(VBL_ERROR_UNSUPPORTED,
                          "%s: the scene has moving media (a velocity grid), whose motion blur only method 'pt' renders so "
@@ -248,6 +252,14 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
 
     const int width = scene->camera.width, height = scene->camera.height;
     size_t pixel_count = (size_t)width * (size_t)height;
+    /* The accumulators and their pass copy (a stoppable render) against the memory limit. */
+    {
+        char what[128];
+        snprintf(what, sizeof what, "the accumulators of a %dx%d film", width, height);
+        const uint64_t copies = options->cancel || options->time_limit > 0.0 ? 2u : 1u;
+        const uint64_t bytes = (uint64_t)pixel_count * copies * sizeof(vbl_pixel_accum);
+        if ((r = vbl_memory_check(bytes, scene->path, what)) != VBL_SUCCESS) return r;
+    }
     vbl_pixel_accum* accum = calloc(pixel_count, sizeof *accum);
     if (!accum) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %dx%d film", scene->path, width, height);
 

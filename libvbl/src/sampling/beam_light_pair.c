@@ -68,13 +68,30 @@ static int arc_make(const vbl_beam_light_pair* p, double v, arc* a)
     return a->phi1 > a->phi0;
 }
 
-/* Max of f_l f_c over the VSL cone seen from the camera point at offset du = u - u_p. */
+static double hg_product(const vbl_beam_light_pair* p, vbl_vec3 w)
+{
+    return vbl_hg_eval(p->g_light, vbl_v3_dot(p->l_d, w)) * vbl_hg_eval(p->g_camera, -vbl_v3_dot(p->c_d, w));
+}
+
+/* A vertex value of stage 2: f_l f_c over the VSL cone seen from the camera point at offset
+ * du = u - u_p, as the larger of the axis and the two least-rotation directions to the lobes'
+ * peaks (section 3.1's omega'_max; a lower estimate of the cone's maximum, exact for one flat lobe),
+ * and the axis value alone for cones thinner than VBL_BEAM_LIGHT_PAIR_THIN (R / w). Any positive
+ * vertex values give a valid density (draw and density share them); the 17-point geodesic search of
+ * vbl_vsl_cone_hg_product_max cost ~75% of a vbl pass (perf, issue 13) for a few percent of shape. */
 static double cone_value(const vbl_beam_light_pair* p, const arc* a, double du)
 {
     vbl_vec3 d = vbl_v3_sub(vbl_v3_scale(p->c_d, du), a->perp); /* x_c - x */
+    double w = vbl_v3_length(d);
+    if (w > 0.0 && p->radius <= VBL_BEAM_LIGHT_PAIR_THIN * w) return hg_product(p, vbl_v3_scale(d, 1.0 / w));
     vbl_vsl_cone cone;
     vbl_vsl_cone_init(&cone, d, p->radius, vbl_v3_scale(a->n, -1.0));
-    return vbl_vsl_cone_hg_product_max(&cone, p->g_light, p->l_d, p->g_camera, vbl_v3_scale(p->c_d, -1.0), NULL);
+    double f = hg_product(p, cone.axis);
+    if (p->g_light != 0.0)
+        f = fmax(f, hg_product(p, vbl_vsl_cone_closest(&cone, p->g_light > 0.0 ? p->l_d : vbl_v3_scale(p->l_d, -1.0))));
+    if (p->g_camera != 0.0)
+        f = fmax(f, hg_product(p, vbl_vsl_cone_closest(&cone, p->g_camera > 0.0 ? vbl_v3_scale(p->c_d, -1.0) : p->c_d)));
+    return f;
 }
 
 static int arc_pwl(const vbl_beam_light_pair* p, const arc* a, vbl_pwl* pwl)
@@ -233,4 +250,70 @@ double vbl_vsl_kernel(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l,
     }
     /* (1 / (pi R^2)) * Omega * (sum / n) = geometry * sum / n */
     return cone.geometry * sum / n;
+}
+
+/* ---- thin-cone shortcut (beam_light_pair.h) ---- */
+
+double vbl_vsl_lobe_slope_bound(double g)
+{
+    double a = fabs(g);
+    return a < 1.0 ? 3.0 * a / ((1.0 - a) * (1.0 + a)) : INFINITY;
+}
+
+double vbl_vsl_lobe_curvature_bound(double g)
+{
+    double a = fabs(g);
+    return a < 1.0 ? 4.5 * a / ((1.0 - a) * (1.0 - a)) : INFINITY;
+}
+
+double vbl_vsl_midpoint_error_bound(double alpha, double b1, double b2)
+{
+    return 0.5 * alpha * alpha * (b2 + b1 * b1) * exp(alpha * b1);
+}
+
+void vbl_vsl_lobe_local_bounds(double g, double c, double sin_a, double cos_a, double* b1, double* b2)
+{
+    const double a = fabs(g);
+    *b1 = *b2 = 0.0;
+    if (a == 0.0) return;
+    if (!(a < 1.0)) {
+        *b1 = *b2 = INFINITY;
+        return;
+    }
+    double cp = vbl_clamp(g > 0.0 ? c : -c, -1.0, 1.0), sp = sqrt(fmax(0.0, 1.0 - cp * cp));
+    /* x = 1 - cos of the angle to the lobe's peak over the cone: [x0, x1] */
+    double x0 = cp >= cos_a ? 0.0 : fmax(0.0, 1.0 - (cp * cos_a + sp * sin_a) - 1e-12);
+    double cu = cp * cos_a - sp * sin_a; /* cos(theta + alpha) while theta + alpha <= pi */
+    double x1 = (sp * cos_a + cp * sin_a) < 0.0 ? 2.0 : fmin(2.0, 1.0 - cu + 1e-12);
+    const double om = (1.0 - a) * (1.0 - a);
+    double xs = vbl_clamp(om / (2.0 * a), x0, x1); /* the peak of sqrt(2x) / q and of 2x / q^2 */
+    double qs = om + 2.0 * a * xs, q0 = om + 2.0 * a * x0;
+    *b1 = fmin(3.0 * a * sqrt(2.0 * xs) / qs, vbl_vsl_lobe_slope_bound(g)); /* sqrt(2x) >= sqrt(1 - c^2) */
+    *b2 = 6.0 * a * a * 2.0 * xs / (qs * qs) + 3.0 * a / q0;
+}
+
+double vbl_vsl_thin_cone_sin(double g_max, double tolerance)
+{
+    if (!(tolerance > 0.0) || !(fabs(g_max) < 1.0)) return 0.0;
+    const double b1 = 2.0 * vbl_vsl_lobe_slope_bound(g_max), b2 = 2.0 * vbl_vsl_lobe_curvature_bound(g_max);
+    double lo = 0.0, hi = 0.5 * VBL_PI;
+    if (vbl_vsl_midpoint_error_bound(hi, b1, b2) <= tolerance) return 1.0;
+    for (int i = 0; i < 60; ++i) {
+        double mid = 0.5 * (lo + hi);
+        if (vbl_vsl_midpoint_error_bound(mid, b1, b2) <= tolerance) lo = mid;
+        else hi = mid;
+    }
+    return sin(lo);
+}
+
+double vbl_vsl_kernel_adaptive(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l, vbl_vec3 l_d, double g_light,
+                               double radius, int n, double jitter1, double jitter2, double thin_sin)
+{
+    vbl_vec3 mc = vbl_v3_scale(c_d, -1.0);
+    vbl_vsl_cone cone;
+    if (!vbl_vsl_cone_init(&cone, vbl_v3_sub(x_c, x_l), radius, mc)) return 0.0;
+    if (cone.radius <= thin_sin * cone.w) /* midpoint (R == 0: the VRL integrand, geometry 1 / w^2) */
+        return vbl_hg_eval(g_light, vbl_v3_dot(l_d, cone.axis)) * vbl_hg_eval(g_camera, vbl_v3_dot(mc, cone.axis)) *
+               cone.geometry;
+    return vbl_vsl_kernel(x_c, c_d, g_camera, x_l, l_d, g_light, radius, n, jitter1, jitter2);
 }

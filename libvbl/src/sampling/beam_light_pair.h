@@ -19,8 +19,9 @@
  *     VBL_BEAM_LIGHT_PAIR_VERTICES vertices) in the angle phi about the VSL, u = u_p + D' tan(phi),
  *     D' = hypot(D, R) (D the distance of the VSL centre to the camera line, floored as in the VRL
  *     sampler when R == 0), so pdf(u) = pdf(phi) D' / (D'^2 + (u - u_p)^2) ~ 1 / (w^2 + R^2).
- *     Vertex values: the maximum of f_l f_c over the VSL's cone seen from the camera point at
- *     that vertex (sampling/vsl_cone.h, section 3.1's omega_max / least-rotation rule); vertices
+ *     Vertex values: f_l f_c at the best of the cone's axis and the least-rotation directions to
+ *     the two lobe peaks (sampling/vsl_cone.h, section 3.1's omega'_max rule; the axis alone for
+ *     cones thinner than VBL_BEAM_LIGHT_PAIR_THIN); vertices
  *     cosine-warped (VRL appendix eq 19) with one moved onto the light lobe's peak on the arc.
  * The returned pdf is the joint density in (u, v); it is exactly what vbl_beam_light_pair_density gives.
  * Degenerate geometry: parallel lines give the uniform stage-1 limit, crossing lines are smooth
@@ -41,6 +42,8 @@ extern "C" {
 #endif
 
 #define VBL_BEAM_LIGHT_PAIR_VERTICES 12
+/* Stage-2 vertex values take the axis value where R <= this x the distance (beam_light_pair.c). */
+#define VBL_BEAM_LIGHT_PAIR_THIN 0.02
 
 typedef struct vbl_beam_light_pair_sample {
     double u, v;
@@ -85,6 +88,38 @@ double vbl_beam_light_pair_conditional_pdf(const vbl_beam_light_pair* p, double 
  * n = 16..64 suffices for g up to ~0.9 (the paper uses up to 100). */
 double vbl_vsl_kernel(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l, vbl_vec3 l_d, double g_light,
                       double radius, int n, double jitter1, double jitter2);
+
+/* ---- The thin-cone shortcut of K_R (issue 13 item 4) ----
+ * For a cone of half-angle alpha about the axis a = (x_c - x_l) / w, K_R = geometry x the mean of
+ * F = f_l f_c over the cone (uniform), and the midpoint value geometry x F(a) is the VRL kernel
+ * with the BRE's softened geometry (sampling/vsl_cone.h). Along a unit-speed geodesic from a
+ * (angle theta <= alpha, stays in the cone): F(theta) = F(0) + theta F'(0) + theta^2 F''(xi) / 2;
+ * the linear term averages to 0 over the cone's azimuth, |F''| <= C F and F(xi) <= F(a) e^(alpha B1), so
+ *   |mean F / F(a) - 1| <= alpha^2 / 2 x (B2 + B1^2) x e^(alpha B1),
+ * with B1 >= |(ln F)'| and B2 + B1^2 >= F'' / F in the cone. For F = A B, A and B positive mixtures
+ * of HG lobes (sum_i w_i f_i: |A'| / A <= max_i |f_i'| / f_i, A'' / A <= max_i f_i'' / f_i), B1 and B2 are
+ * the sums over the two ends of each end's largest lobe bound. One lobe, c = m . omega,
+ * q = 1 + g^2 - 2 g c, h = ln HG: h' = 3 g (m . omega') / q, h'' = 6 g^2 (m . omega')^2 / q^2 - 3 g c / q, so
+ *   |h'| <= 3 |g| sqrt(1 - c^2) / q <= 3 |g| / (1 - g^2),
+ *   |h''| <= 6 g^2 (1 - c^2) / q^2 + 3 |g| |c| / q <= (1.5 |g| + 3 |g|) / (1 - |g|)^2 (2x / q^2 <= 1 / (4 |g| (1 - |g|)^2)),
+ * and, over the cone only, with x = 1 - cos(angle to the peak sign(g) m), q = (1 - |g|)^2 + 2 |g| x,
+ * 1 - c^2 <= 2 x: sqrt(2x) / q and 2x / q^2 peak at x* = (1 - |g|)^2 / (2 |g|), so the local bounds take
+ * x* clamped to the cone's x range (vbl_vsl_lobe_local_bounds). The bound is on the exact kernel,
+ * so the shortcut's relative error is below it for every geometry, and it -> 0 like (R / w)^2, the
+ * order of the VBL's own bias. */
+double vbl_vsl_lobe_slope_bound(double g);     /* 3 |g| / (1 - g^2): |h'| anywhere */
+double vbl_vsl_lobe_curvature_bound(double g); /* 4.5 |g| / (1 - |g|)^2 >= |h''| anywhere (see above) */
+/* Local b1 >= |h'|, b2 >= |h''| of one lobe over a cone of half-angle alpha (sin_a, cos_a) whose axis
+ * has cosine c with the lobe's direction m (HG(g, m . omega)). */
+void vbl_vsl_lobe_local_bounds(double g, double c, double sin_a, double cos_a, double* b1, double* b2);
+/* The relative-error bound above for half-angle alpha and summed bounds b1, b2. */
+double vbl_vsl_midpoint_error_bound(double alpha, double b1, double b2);
+/* sin of the largest half-angle whose bound with the global lobe bounds is <= tolerance (bisection),
+ * for two lobes of |g| <= g_max; 0 when tolerance <= 0 (never skip) or g_max >= 1. */
+double vbl_vsl_thin_cone_sin(double g_max, double tolerance);
+/* K_R by the midpoint where R <= thin_sin x w (R == 0: the VRL integrand), else vbl_vsl_kernel. */
+double vbl_vsl_kernel_adaptive(vbl_vec3 x_c, vbl_vec3 c_d, double g_camera, vbl_vec3 x_l, vbl_vec3 l_d, double g_light,
+                               double radius, int n, double jitter1, double jitter2, double thin_sin);
 
 /* The sampling target of stage 2 at (u, v) without normalisation (tests, diagnostics):
  * max-in-cone phase product / (w^2 + R^2). */

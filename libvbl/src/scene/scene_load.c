@@ -326,6 +326,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     vbl_volume_load_options load = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
     load.grid_name = grid;
     load.grid_index = (int)grid_index;
+    load.cancel = options ? options->cancel : NULL;
     r = vbl_volume_load(medium->vdb_path, &load, &medium->volume);
     if (r) {
         char inner[1024];
@@ -481,6 +482,8 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
             char framed[1024]; /* VDB sequences: frame patterns (scene_frame.h) */
             if ((r = vbl_scene_frame_vdb(ctx.path, field, m, dir, options, &override, framed, sizeof framed)))
                 return r;
+            if (options && options->cancel && *options->cancel)
+                return vbl_error(VBL_ERROR_INTERRUPTED, "%s: load cancelled before %s", ctx.path, field);
             scene->media_count = i + 1; /* so a failure releases what was loaded */
             if ((r = vbl_parse_medium(&ctx, &colors, m, field, dir, override, options, &scene->media[i]))) return r;
             if ((r = vbl_parse_medium_emission(&ctx, &colors, m, field, dir, scene, i))) return r;

@@ -5,7 +5,14 @@
  *  - delta tracking (Woodcock): stop with T = 0 at a real collision, probability sigma_t / mu;
  *  - ratio tracking (Novak et al. 2014, eq. 6): T = prod (1 - sigma_t / mu);
  *  - residual ratio tracking (Novak et al. 2014, eq. 11), control = segment minorant sigma_c:
- *    T = exp(-sigma_c len) * prod (1 - (sigma_t - sigma_c) / (mu - sigma_c));
+ *    T = exp(-sigma_c len) * prod (1 - (sigma_t - sigma_c) / (mu - sigma_c)); or (residual_mid)
+ *    control = the mid-bound c = (max + min) / 2 with rate mu_r = (max - min) / 2, which bounds
+ *    |sigma_t - c|, so the factors lie in [0, 2]: T = exp(-c len) prod (1 - (sigma_t - c) / mu_r),
+ *    unbiased for any constant c and any mu_r >= |sigma_t - c| (Novak et al. 2014, sec. 5.2, eq. 11
+ *    with a two-sided residual). Its relative variance over a segment, exp(int r^2 / mu_r) - 1 with
+ *    r = sigma_t - c, at a cost of mu_r len lookups: the work x variance product ~ int r^2, which the
+ *    mid-bound cuts 4x against the minorant for sigma_t spread evenly over [min, max], at half
+ *    the lookups (docs/readme/sampling.md "Shadow-ray transmittance");
  *  - ray marching (biased): T = exp(-sum sigma_t(t_k) dt), jittered regular steps.
  * Segments whose rate is 0 cost no lookup. Ratio estimators apply Russian roulette once the weight
  * falls below VBL_RR_THRESHOLD (survive with probability w / threshold, weight := threshold):
@@ -47,6 +54,7 @@ typedef struct vbl_tracker {
     vbl_tracking_visit visit; /* free flight only, may be NULL: called at every tentative point */
     void* visit_user;
     double rr;    /* Russian-roulette threshold of the ratio estimators */
+    int residual_mid; /* residual tracking's control: 1 the mid-bound, 0 the minorant */
 } vbl_tracker;
 
 /* The roulette threshold of a settings value (0: VBL_RR_THRESHOLD). */
@@ -79,7 +87,7 @@ static int vbl_tracker_roulette(vbl_tracker* tr)
 /* Reacts to a tentative collision at t with sigma_t, sampled with rate mu over control sigma_c. */
 static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double sigma_c)
 {
-    double p = (sigma_t - sigma_c) / mu; /* in [0, 1] for true bounds (rounding aside) */
+    double p = (sigma_t - sigma_c) / mu; /* in [0, 1] for true bounds, [-1, 1] for the mid-bound control */
     if (tr->kind == VBL_TRANSMITTANCE_DELTA_TRACKING) {
         if (vbl_rng_uniform(tr->rng) < p) {
             tr->weight = 0.0;
@@ -143,15 +151,29 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
         }
         double sigma_c = residual ? seg.minorant : 0.0;
         double mu = seg.majorant - sigma_c;
+        if (residual && tr->residual_mid) {
+            sigma_c = 0.5 * (seg.majorant + seg.minorant);
+            mu = fmax(seg.majorant - sigma_c, sigma_c - seg.minorant); /* = (max - min) / 2 up to rounding */
+        }
         if (tr->mu_scale > 1.0) mu *= tr->mu_scale;
-        if (residual && sigma_c > 0.0) {
+        /* The control's exp(-sigma_c len): the minorant's at the segment start (its factors are
+         * <= 1); the mid-bound's at the segment end, after the factors (some > 1) it may
+         * compensate, so the roulette does not act on a weight the segment will raise again. */
+        const int control_late = residual && tr->residual_mid;
+        if (residual && sigma_c > 0.0 && !control_late) {
             tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
             if (!(tr->weight > 0.0)) { /* underflow: T is 0 to double precision */
                 tr->weight = 0.0;
                 return VBL_TRACK_STOP;
             }
         }
-        if (!(mu > 0.0)) continue; /* empty (or exactly known) segment: no lookups */
+        if (!(mu > 0.0)) {
+            if (control_late && sigma_c > 0.0) { /* exactly known: the closed form alone */
+                tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
+                if (vbl_tracker_roulette(tr) == VBL_TRACK_STOP) return VBL_TRACK_STOP;
+            }
+            continue; /* empty (or exactly known) segment: no lookups */
+        }
         double t = seg.t0;
         for (;;) {
             t = vbl_exp_step(t, mu, tr->rng);
@@ -163,6 +185,10 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
                 tr->sigma_stop = sigma_t;
                 return VBL_TRACK_STOP;
             }
+        }
+        if (control_late && sigma_c > 0.0) {
+            tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
+            if (vbl_tracker_roulette(tr) == VBL_TRACK_STOP) return VBL_TRACK_STOP;
         }
     }
     return VBL_TRACK_CONTINUE;
@@ -247,7 +273,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
         vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL,
-                          vbl_rr_of(settings->rr_threshold)};
+                          vbl_rr_of(settings->rr_threshold), settings->residual_mid};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -261,7 +287,7 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL, VBL_RR_THRESHOLD};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL, VBL_RR_THRESHOLD, 0};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -276,7 +302,7 @@ int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_curso
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD, 0};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -292,7 +318,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold)};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0};
     int records = 0;
     double t_last = t0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

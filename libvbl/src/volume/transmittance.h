@@ -17,6 +17,10 @@ typedef struct vbl_tracking_settings {
      * initializers): the tight majorant. Free-flight sampling and the caches ignore it. */
     double majorant_scale;
     double rr_threshold;      /* ratio estimators' Russian-roulette threshold, (0, 1]; 0: 0.1 */
+    /* Residual ratio tracking's control (issue 14 item 4): 0 (older initializers) the segment
+     * minorant, rate majorant - minorant; 1 the mid-bound c = (majorant + minorant) / 2, rate
+     * (majorant - minorant) / 2 = max |sigma_t - c| (factors 1 - (sigma_t - c) / mu in [0, 2]). */
+    int residual_mid;
 } vbl_tracking_settings;
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached

@@ -297,6 +297,10 @@ vbl_result vbl_volume_create_signed(void* buffer, size_t size, const char* path,
     vbl_scan_internal(v, &scan, tree, 1);
     vbl_scan_internal(v, &scan, tree, 2);
     vbl_scan_root(v, &scan);
+    if (options->cancel && *options->cancel) {
+        vbl_volume_destroy(v);
+        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: load cancelled (after the value scan)", path);
+    }
     uint64_t bad = scan.bad_active + scan.bad_inactive;
     if (bad && options->bad_voxels != VBL_BAD_VOXELS_SANITIZE) {
         result = vbl_error(VBL_ERROR_BAD_VOXELS,
@@ -335,6 +339,8 @@ vbl_result vbl_volume_create_signed(void* buffer, size_t size, const char* path,
     info->nanovdb_bytes = size;
 
     result = vbl_majorant_grid_build(&v->majorant, v, options->majorant_block_size);
+    if (result == VBL_SUCCESS && options->cancel && *options->cancel)
+        result = vbl_error(VBL_ERROR_INTERRUPTED, "%s: load cancelled (after the majorant grid)", path);
     if (result != VBL_SUCCESS) {
         vbl_volume_destroy(v);
         return result;
@@ -364,6 +370,10 @@ VBL_API vbl_result vbl_volume_load(const char* path, const vbl_volume_load_optio
     vbl_result result = vbl_vdb_read_float_grid(path, options->grid_name, options->grid_index, &buffer, &size, &file_index, message,
                                                 sizeof message);
     if (result != VBL_SUCCESS) return vbl_error(result, "%s", message);
+    if (options->cancel && *options->cancel) {
+        vbl_aligned_free(buffer);
+        return vbl_error(VBL_ERROR_INTERRUPTED, "%s: load cancelled (after reading the file)", path);
+    }
     return vbl_volume_create_from_nanovdb(buffer, size, path, file_index, options, out_volume);
 }
 

@@ -116,6 +116,10 @@ class VblRenderEngine(bpy.types.RenderEngine):
         film = None
         try:
             with vbl.Scene(path) as vscene:
+                # the documented limits of the method at the extremes (vbl.render_limits; render.md
+                # "Limits at the extremes"): the render still runs, the user sees why it may be dark
+                for line in vbl.render_limits(vscene, **overrides) if hasattr(vbl, "render_limits") else ():
+                    self.report({"WARNING"}, "vbl: %s" % line)
                 try:
                     film = vbl.render(vscene, callback=progress, cancel=cancel, **overrides)
                 except vbl.RenderInterrupted as error:

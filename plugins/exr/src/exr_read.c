@@ -261,6 +261,15 @@ vbl_result vbl_exr_read(const char* path, vbl_exr_image** out_image)
                                       (unsigned long long)(VBL_EXR_EXPANSION_FLOOR >> 20));
             goto done;
         }
+        /* The limit before the per-channel calloc (vbl_memory_limit: --memory-limit / VBL_MEMORY_LIMIT). */
+        if (bytes > (long double)vbl_memory_limit()) {
+            result = vbl_report_error(VBL_ERROR_UNSUPPORTED,
+                                      "%s: dataWindow %lld x %lld with %llu channels needs %.1f MiB, more than the memory limit "
+                                      "of %.1f MiB (--memory-limit / VBL_MEMORY_LIMIT)",
+                                      path, (long long)width, (long long)height, (unsigned long long)channels,
+                                      (double)(bytes / 1048576.0L), (double)vbl_memory_limit() / 1048576.0);
+            goto done;
+        }
     }
     image->width = (int)width;
     image->height = (int)height;

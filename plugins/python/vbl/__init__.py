@@ -22,20 +22,20 @@ from ._native import STRUCT_SIZES, library_path, native_available
 from ._native import (_FilmStats, _OptionInfo, _RenderProgress, _SceneLoadOptions, _TransmittanceOptions,
                       _TransmittanceResult, _VolumeInfo, _VolumeLoadOptions)
 from ._options import RENDER_OPTION_FIELDS, RENDER_OPTIONS
-from .errors import (CorruptFile, FileIOError, FileNotFound, GridError, GridNotFound, InvalidArgument, OutOfMemory,
-                     RenderInterrupted, SceneError, Unsupported, VblError)
+from .errors import (CorruptFile, FileIOError, FileNotFound, GridError, GridNotFound, InvalidArgument, LimitWarning,
+                     OutOfMemory, RenderInterrupted, SceneError, Unsupported, VblError)
 from .exr import ExrFile
 from .film import AOV_LAYERS, LIGHT_GROUP_PREFIX, TOTAL_LAYERS, TRANSPORT_LAYERS, Film
-from .rendering import merge, render, resume
+from .rendering import merge, render, render_limits, resume
 from .scene import ColorConfig, Scene, default_color_config
 from .volume import TransmittanceResult, Volume
 from . import _native as _N
 from .errors import decode as _decode
 
 __all__ = ["VblError", "FileNotFound", "FileIOError", "InvalidArgument", "SceneError", "CorruptFile", "GridError",
-           "GridNotFound", "OutOfMemory", "Unsupported", "RenderInterrupted",
+           "GridNotFound", "OutOfMemory", "Unsupported", "RenderInterrupted", "LimitWarning",
            "version", "library_path", "native_available", "Scene", "ColorConfig", "default_color_config", "Volume",
-           "Film", "ExrFile", "render", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TOTAL_LAYERS", "LIGHT_GROUP_PREFIX", "TransmittanceResult",
+           "Film", "ExrFile", "render", "render_limits", "merge", "resume", "TRANSPORT_LAYERS", "AOV_LAYERS", "TOTAL_LAYERS", "LIGHT_GROUP_PREFIX", "TransmittanceResult",
            "RENDER_OPTION_FIELDS", "RENDER_OPTIONS", "STRUCT_SIZES"]
 
 

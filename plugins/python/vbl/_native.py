@@ -251,6 +251,7 @@ _film_get_stats = _proto("vbl_film_get_stats", _R, _P, ctypes.POINTER(_FilmStats
 _film_merge = _proto("vbl_film_merge", _R, ctypes.POINTER(_P), ctypes.c_int, ctypes.POINTER(_P))
 _transport_class_name = _proto("vbl_transport_class_name", ctypes.c_char_p, ctypes.c_int)
 _render_resume = _proto("vbl_render_resume", _R, _P, _P, _P, ctypes.POINTER(_P))
+_render_limits = _proto("vbl_render_limits", ctypes.c_int, _P, _P, ctypes.c_char_p, ctypes.c_size_t)
 
 _render_snapshot = _proto("vbl_render_snapshot", _R, ctypes.POINTER(_RenderProgress), ctypes.POINTER(_P))
 _film_retain = _proto("vbl_film_retain", None, _P)

@@ -130,3 +130,10 @@ def check(code):
 
 def argument_error(message):
     return InvalidArgument(decode(_native._result_name(ERROR_INVALID_ARGUMENT)), message)
+
+
+class LimitWarning(UserWarning):
+    """A render runs into a documented limit of its method at the extremes (vbl_render_limits,
+    docs/readme/render.md "Limits at the extremes"): a near-delta phase function with a
+    virtual-light method, a kernel radius too large, optically thick media. The render still runs;
+    the message is the line `vbl render` prints as a warning (scene file and field)."""

@@ -9,9 +9,10 @@ pass instead (the pass callback returns "stop")."""
 import ctypes
 import signal
 import threading
+import warnings
 
 from . import _native as N
-from .errors import ERROR_INTERRUPTED, RenderInterrupted, argument_error, error_for
+from .errors import ERROR_INTERRUPTED, LimitWarning, RenderInterrupted, argument_error, error_for
 from .film import Film
 
 _POLL_SECONDS = 0.05
@@ -31,6 +32,32 @@ def _should_stop(cancel):
     return bool(cancel())
 
 
+def _limits(scene, options):
+    size = 1024
+    while True:
+        buf = ctypes.create_string_buffer(size)
+        count = N._render_limits(scene.handle, options.handle, buf, size)
+        lines = [line for line in buf.value.decode("utf-8", "replace").split("\n") if line]
+        if (count <= len(lines) and len(buf.value) + 1 < size) or size >= 1 << 20:
+            return lines
+        size *= 4  # truncated: ask again with room for every line
+
+
+def render_limits(scene, **overrides):
+    """The documented limits of the methods at the extremes (docs/readme/render.md "Limits at the
+    extremes") that render(scene, **overrides) would run into, one message each (a list of str,
+    empty for none): the lines `vbl render` prints as warnings (vbl_render_limits). render() and
+    resume() issue each as a vbl.LimitWarning (warnings.warn) before rendering."""
+    options = scene._render_options()
+    options.apply(overrides, "render_limits()")
+    return _limits(scene, options)
+
+
+def _warn_limits(scene, options):
+    for line in _limits(scene, options):
+        warnings.warn(line, LimitWarning, stacklevel=3)
+
+
 def render(scene, callback=None, cancel=None, **overrides):
     """Renders `scene` with its `render` block, overridden by keyword arguments named after the
     fields of vbl_render_options (RENDER_OPTION_FIELDS: method, passes, spp, light_paths, seed,
@@ -42,9 +69,12 @@ def render(scene, callback=None, cancel=None, **overrides):
     render and is re-raised. `cancel`: a threading.Event or a callable polled every 50 ms; once
     true the pass in progress stops promptly and is dropped, and the film of the complete passes
     is returned. Ctrl-C does the same and raises vbl.RenderInterrupted (a KeyboardInterrupt) with
-    `.film`. A stop before the first pass completes raises vbl.RenderInterrupted with film None."""
+    `.film`. A stop before the first pass completes raises vbl.RenderInterrupted with film None.
+    A documented limit of the method that the render runs into (render_limits) is issued as a
+    vbl.LimitWarning first; the render still runs."""
     options = scene._render_options()
     options.apply(overrides, "render()")
+    _warn_limits(scene, options)
     return _run(scene, options, callback, cancel, lambda out: N._render(scene.handle, options.handle, out))
 
 
@@ -154,8 +184,9 @@ def resume(scene, base, callback=None, cancel=None, **overrides):
     """Continues the film `base` (a render of `scene` with fewer passes: a checkpoint) to the
     passes of the scene's `render` block with `overrides` (vbl_render_resume): renders the passes it
     lacks with the single render's seeds and merges, = one render of all passes to float rounding.
-    Ctrl-C, `callback` and `cancel` as in render()."""
+    Ctrl-C, `callback` and `cancel` as in render(); limits warned as in render()."""
     options = scene._render_options()
     options.apply(overrides, "resume()")
+    _warn_limits(scene, options)
     return _run(scene, options, callback, cancel,
                 lambda out: N._render_resume(scene.handle, options.handle, base.handle, out))

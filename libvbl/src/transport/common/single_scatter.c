@@ -1,5 +1,6 @@
 /* Single scattering along camera rays: equiangular sampling toward point/spot lights,
- * free-flight sampling + light sampling for distant/quad/environment lights. */
+ * free-flight sampling + light sampling for distant/quad/environment lights, and for quad and
+ * environment lights also a phase-sampled direction, MIS-combined (options.mis). */
 #include "transport/common/single_scatter.h"
 
 #include <math.h>
@@ -69,10 +70,40 @@ void vbl_single_scatter_estimate_to(const vbl_render_context* ctx, vbl_thread_st
         double u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
         vbl_light_sample ls;
         if (!vbl_light_sample_incident(light, x, u1, u2, &ls)) continue;
-        vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, ls.wi));
+        double cos_theta = vbl_v3_dot(direction, ls.wi);
+        vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, cos_theta);
         if (vbl_v3_max_component(kernel) <= 0.0 || vbl_v3_max_component(ls.li) <= 0.0) continue;
+        double w = 1.0; /* quad, environment: MIS with the phase sample below */
+        if (light->type != VBL_LIGHT_DISTANT)
+            w = vbl_mis_weight(ctx->options.mis, ls.pdf, vbl_media_phase_pdf(scene, components, cos_theta));
         double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
-        vbl_ss_add(radiance, kernel, ls.li, T_light / (ls.pdf * sigma_t));
+        vbl_ss_add(radiance, kernel, ls.li, w * T_light / (ls.pdf * sigma_t));
+    }
+    if (!scene->has_visible_lights) return; /* distant lights only: light sampling is exact in direction */
+
+    /* quad and environment lights: one phase-sampled direction, MIS-weighted against each light's
+     * own sampling (Veach 1997, section 9.2, eq. 9.13/9.14). A near-delta lobe (|g| -> 1) is found
+     * only this way; light sampling alone almost never lands in it. */
+    vbl_vec3 wi;
+    double pdf_phase = 0.0;
+    double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
+    if (!vbl_media_sample_phase(scene, components, direction, u0, u1, u2, &wi, &pdf_phase) || !(pdf_phase > 0.0))
+        return;
+    vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, wi));
+    if (vbl_v3_max_component(kernel) <= 0.0) return;
+    for (int i = 0; i < scene->light_count; ++i) {
+        const vbl_light* light = &scene->lights[i];
+        double t_hit = INFINITY;
+        if (light->type == VBL_LIGHT_QUAD) {
+            if (!vbl_quad_intersect(light, x, wi, &t_hit)) continue;
+        } else if (light->type != VBL_LIGHT_ENVIRONMENT) {
+            continue;
+        }
+        double pdf_light = vbl_light_pdf(light, x, wi);
+        double w = vbl_mis_weight(ctx->options.mis, pdf_phase, pdf_light);
+        if (!(w > 0.0) || vbl_v3_max_component(light->color) <= 0.0) continue;
+        double T_light = vbl_ctx_transmittance(ctx, ts, x, wi, t_hit, rng);
+        vbl_ss_add(radiance, kernel, light->color, w * T_light / (pdf_phase * sigma_t));
     }
 }
 

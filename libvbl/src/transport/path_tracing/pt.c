@@ -9,7 +9,8 @@
  * and media transmittance on the shadow ray; quad/environment lights combine NEE and
  * phase/BRDF sampling by MIS (Veach 1997, eq. 9.13 balance / 9.14 power heuristic); point/spot
  * lights add an equiangular distance sample on every segment, MIS-combined with the collision's
- * NEE (Kulla and Fajardo 2012; transport/path_tracing/pt_equiangular.h, option pt_equiangular). Lights do
+ * NEE (Kulla and Fajardo 2012; transport/path_tracing/pt_equiangular.h, option pt_equiangular; quad
+ * lights too with pt.equiangular_quads, three-strategy MIS with NEE and phase sampling). Lights do
  * not occlude; surfaces occlude everything. Contributions are classified by the camera-visible
  * vertex and the vertex before it (vbl_class_for_vertices).
  * Emissive media (docs/readme/emission.md) add the emission term int_0^s T sigma_a Le dt of the
@@ -86,7 +87,7 @@ static void vbl_pt_vertex(vbl_pt_path* p, int is_surface)
  * direction and `vertex` the scattering point it was sampled at (ignored for camera rays). */
 static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 vertex,
                                       vbl_vec3 direction, double t_limit, const vbl_pt_path* path, double prev_pdf,
-                                      vbl_vec3 beta, vbl_sample_value* out)
+                                      const vbl_pt_eq_vertex* eq_vertex, vbl_vec3 beta, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     if (!scene->has_visible_lights) return;
@@ -103,8 +104,13 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
             continue;
         }
         double w = 1.0;
-        if (path->events > 0)
+        if (path->events > 0 && eq_vertex && light->type == VBL_LIGHT_QUAD) { /* and the equiangular sample */
+            double t_hit = 0.0;
+            vbl_quad_intersect(light, vertex, direction, &t_hit);
+            w = vbl_pt_equiangular_quad_weight(ctx, light, eq_vertex, direction, t_hit, prev_pdf, VBL_PT_EQ_PHASE);
+        } else if (path->events > 0) {
             w = vbl_mis_weight(ctx->options.mis, prev_pdf, select_pdf * vbl_light_pdf(light, vertex, direction));
+        }
         vbl_add_scaled(L, beta, light->color, w);
     }
 }
@@ -148,7 +154,11 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
     if (!(T > 0.0)) return;
     double w = 1.0;
-    if (!ls.is_delta)
+    if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
+        const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
+        w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, vbl_medium_phase_pdf(mp, cos_theta),
+                                           VBL_PT_EQ_NEE);
+    } else if (!ls.is_delta)
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
                            vbl_medium_phase_pdf(mp, cos_theta));
     else /* against the segment's equiangular sample (pt_equiangular.h) */
@@ -205,11 +215,25 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     double components[VBL_MAX_MEDIA] = {0};
     vbl_pt_path path = {0, 0, -1};
     const int equiangular = vbl_pt_equiangular_active(ctx);
+    /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
+    const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
+    vbl_pt_eq_vertex eq_vertex;
+    int has_eq_vertex = 0;
     const vbl_pt_dims dims = {ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL, ctx->options.seed, sample->pixel_index,
                               sample->sample_index};
     /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
      * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
      * majorant (their noise is dominated by the path, not by T) */
+    /* options.pt.shadow_transmittance: pt's transmittance estimates (NEE shadow rays, the
+     * equiangular sample's segment) by residual ratio tracking with the mid-bound control
+     * (volume/transmittance.h); free flights are unaffected */
+    vbl_render_context shadow_ctx;
+    if (ctx->options.pt.shadow_transmittance != VBL_PT_SHADOW_RENDER) { /* residual-mid, the default */
+        shadow_ctx = *ctx;
+        shadow_ctx.tracking.estimator = VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
+        shadow_ctx.tracking.residual_mid = 1;
+        ctx = &shadow_ctx;
+    }
     const vbl_render_context* first_ctx = ctx;
     vbl_render_context tight_ctx;
     if (ctx->tracking.majorant_scale > 1.0) {
@@ -238,7 +262,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
         }
         double t_limit = collided ? t : t_surface;
-        vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf, beta, out);
+        vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
+                                  has_eq_vertex ? &eq_vertex : NULL, beta, out);
         if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
             /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
             vbl_pt_path next = path;
@@ -273,6 +298,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             if (!vbl_medium_phase_sample(&mp, direction, u0, u1, u2, &wi, &pdf)) break;
             vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
             beta = vbl_v3_scale(vbl_v3_mul(beta, kernel), 1.0 / (pdf * sigma_t));
+            if (eq_quads) {
+                eq_vertex = (vbl_pt_eq_vertex){origin, direction, t_surface, t, sigma_t};
+                has_eq_vertex = 1;
+            }
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
@@ -293,6 +322,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             beta = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
             vertex = hit.position;
             origin = vbl_surface_spawn(scene->surfaces, hit.position, hit.geometric_normal, wi);
+            has_eq_vertex = 0;
         }
         if (!(vbl_v3_max_component(beta) > 0.0)) break;
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */

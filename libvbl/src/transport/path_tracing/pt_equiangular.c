@@ -1,37 +1,42 @@
-/* Equiangular NEE for pt (pt_equiangular.h). */
+/* Equiangular NEE for pt (pt_equiangular.h), on the medium interface (media/medium.h). */
 #include "transport/path_tracing/pt_equiangular.h"
 
 #include <math.h>
 
+#include "media/medium.h"
 #include "sampling/equiangular.h"
 #include "scene/lights.h"
-#include "media/media.h"
 #include "volume/control_depth.h"
 
-static int vbl_pt_eq_light(const vbl_light* light)
+static int vbl_pt_eq_light(const vbl_render_context* ctx, const vbl_light* light)
 {
-    return light->type == VBL_LIGHT_POINT || light->type == VBL_LIGHT_SPOT;
+    if (light->type == VBL_LIGHT_POINT || light->type == VBL_LIGHT_SPOT) return 1;
+    return light->type == VBL_LIGHT_QUAD && ctx->options.pt.equiangular_quads;
 }
 
-static int vbl_pt_eq_light_count(const vbl_scene* scene)
+static int vbl_pt_eq_light_count(const vbl_render_context* ctx)
 {
     int n = 0;
-    for (int i = 0; i < scene->light_count; ++i) n += vbl_pt_eq_light(&scene->lights[i]);
+    for (int i = 0; i < ctx->scene->light_count; ++i) n += vbl_pt_eq_light(ctx, &ctx->scene->lights[i]);
     return n;
 }
 
 int vbl_pt_equiangular_active(const vbl_render_context* ctx)
 {
-    return ctx->options.pt.equiangular && ctx->extinction->count > 0 &&
-           vbl_pt_eq_light_count(ctx->scene) > 0;
+    return ctx->options.pt.equiangular && ctx->extinction->count > 0 && vbl_pt_eq_light_count(ctx) > 0;
 }
 
-/* Approximate free-flight density (per unit t) times the light-selection probability. */
-static double vbl_pt_eq_q_ff(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 direction, double t0, double t,
-                             double sigma_t)
+int vbl_pt_equiangular_quads_active(const vbl_render_context* ctx)
 {
-    double tau = vbl_control_optical_depth(ctx->extinction, origin, direction, t0, t, ctx->tracking.use_global_majorant);
-    return sigma_t * exp(-tau) / ctx->scene->light_count;
+    return ctx->options.pt.equiangular_quads && vbl_pt_equiangular_active(ctx);
+}
+
+/* Approximate free-flight density (per unit t) at t on the segment, sigma_t exp(-tau_c(t0, t)). */
+static double vbl_pt_eq_ff_density(const vbl_render_context* ctx, vbl_segment seg, double t, double sigma_t)
+{
+    double tau = vbl_control_optical_depth(ctx->extinction, seg.origin, seg.direction, seg.t0, t,
+                                           ctx->tracking.use_global_majorant);
+    return sigma_t * exp(-tau);
 }
 
 /* The weight h(a, b) of the strategy with density a; 1 where the other one cannot sample. */
@@ -41,16 +46,73 @@ static double vbl_pt_eq_weight(vbl_mis_heuristic heuristic, double a, double b)
     return vbl_mis_weight(heuristic, a, b);
 }
 
+/* Three strategies (Veach 1997, eq. 9.13 / 9.14 over n = 3): the weight of density a. */
+static double vbl_pt_eq_weight3(vbl_mis_heuristic heuristic, double a, double b, double c)
+{
+    if (heuristic == VBL_MIS_BALANCE) return a + b + c > 0.0 ? a / (a + b + c) : 0.0;
+    double a2 = a * a, s = a2 + b * b + c * c;
+    return s > 0.0 ? a2 / s : 0.0;
+}
+
+/* The segment's media interval [t0, t1] up to t_surface (0: none). */
+static int vbl_pt_eq_bounds(const vbl_render_context* ctx, vbl_vec3 origin, vbl_vec3 direction, double t_surface,
+                            vbl_segment* seg)
+{
+    double t0, t1;
+    if (!vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_surface, &t0, &t1) || !(t1 > t0))
+        return 0;
+    *seg = vbl_segment_make(origin, direction, t0, t1);
+    return 1;
+}
+
 double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_light* light, vbl_vec3 origin,
                                     vbl_vec3 direction, double t_surface, double t, double sigma_t)
 {
-    if (!vbl_pt_eq_light(light) || !vbl_pt_equiangular_active(ctx)) return 1.0;
-    double t0, t1;
-    if (!vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_surface, &t0, &t1) || !(t1 > t0))
-        return 1.0;
-    double q_ea = vbl_equiangular_pdf(origin, direction, t0, t1, light->position, t) / vbl_pt_eq_light_count(ctx->scene);
+    if (light->type == VBL_LIGHT_QUAD || !vbl_pt_eq_light(ctx, light) || !vbl_pt_equiangular_active(ctx)) return 1.0;
+    vbl_segment seg;
+    if (!vbl_pt_eq_bounds(ctx, origin, direction, t_surface, &seg)) return 1.0;
+    double q_ea = vbl_equiangular_pdf(origin, direction, seg.t0, seg.t1, light->position, t) / vbl_pt_eq_light_count(ctx);
     if (!(q_ea > 0.0)) return 1.0;
-    return vbl_pt_eq_weight(ctx->options.mis, vbl_pt_eq_q_ff(ctx, origin, direction, t0, t, sigma_t), q_ea);
+    double q_ff = vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / ctx->scene->light_count;
+    return vbl_pt_eq_weight(ctx->options.mis, q_ff, q_ea);
+}
+
+/* Densities of the three strategies for the path (medium vertex x at t on the segment, light
+ * point y on a quad, direction wi from x to y), per unit t and solid angle at x:
+ *   nee: the free-flight collision (sigma_t exp(-tau_c)) times the light pick (1/N) and the
+ *        quad's area sampling in solid angle (light_pdf);
+ *   phase: the collision times the phase pdf of wi (the scattered ray hits y);
+ *   eq: y by the same area sampling (light_pdf), the pick among the N_eq lights, and t
+ *       equiangular towards y. */
+static void vbl_pt_eq_quad_densities(const vbl_render_context* ctx, vbl_segment seg, double t, double sigma_t,
+                                     vbl_vec3 y, double light_pdf, double phase_pdf, double* nee, double* phase,
+                                     double* eq)
+{
+    double ff = vbl_pt_eq_ff_density(ctx, seg, t, sigma_t);
+    *nee = ff * light_pdf / ctx->scene->light_count;
+    *phase = ff * phase_pdf;
+    *eq = vbl_equiangular_pdf(seg.origin, seg.direction, seg.t0, seg.t1, y, t) / vbl_pt_eq_light_count(ctx) * light_pdf;
+}
+
+double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_light* light,
+                                      const vbl_pt_eq_vertex* v, vbl_vec3 wi, double distance, double phase_pdf,
+                                      int strategy)
+{
+    const vbl_mis_heuristic h = ctx->options.mis;
+    vbl_vec3 x = vbl_v3_madd(v->origin, v->direction, v->t);
+    double light_pdf = vbl_light_pdf(light, x, wi);
+    double nee, phase, eq;
+    vbl_segment seg;
+    if (!vbl_pt_eq_bounds(ctx, v->origin, v->direction, v->t_surface, &seg)) { /* eq cannot sample here */
+        nee = light_pdf / ctx->scene->light_count;
+        phase = phase_pdf;
+        eq = 0.0;
+    } else {
+        vbl_pt_eq_quad_densities(ctx, seg, v->t, v->sigma_t, vbl_v3_madd(x, wi, distance), light_pdf, phase_pdf,
+                                 &nee, &phase, &eq);
+    }
+    if (strategy == VBL_PT_EQ_NEE) return vbl_pt_eq_weight3(h, nee, phase, eq);
+    return vbl_pt_eq_weight3(h, phase, nee, eq);
 }
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
@@ -59,36 +121,56 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
-    const int n_eq = vbl_pt_eq_light_count(scene);
-    double t0, t1;
-    if (!vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_surface, &t0, &t1) || !(t1 > t0)) return;
+    const int n_eq = vbl_pt_eq_light_count(ctx);
+    vbl_segment seg;
+    if (!vbl_pt_eq_bounds(ctx, origin, direction, t_surface, &seg)) return;
     int k = (int)(u_pick * n_eq);
     if (k >= n_eq) k = n_eq - 1;
     const vbl_light* light = NULL;
     for (int i = 0; i < scene->light_count; ++i)
-        if (vbl_pt_eq_light(&scene->lights[i]) && k-- == 0) {
+        if (vbl_pt_eq_light(ctx, &scene->lights[i]) && k-- == 0) {
             light = &scene->lights[i];
             break;
         }
     if (!light) return;
+    /* The target point: the light's position, or a point drawn uniformly on the quad first
+     * (the same (u1, u2) -> point map as vbl_light_sample_incident, so its area pdf is the NEE's). */
+    const int quad = light->type == VBL_LIGHT_QUAD;
+    double u1 = 0.5, u2 = 0.5;
+    vbl_vec3 target = light->position;
+    if (quad) {
+        u1 = vbl_rng_uniform(rng);
+        u2 = vbl_rng_uniform(rng);
+        target = vbl_v3_add(light->corner, vbl_v3_add(vbl_v3_scale(light->edge1, u1), vbl_v3_scale(light->edge2, u2)));
+    }
     double pdf_t = 0.0;
-    double t = vbl_equiangular_sample(origin, direction, t0, t1, light->position, u_t, &pdf_t);
-    if (!(pdf_t > 0.0) || !(t >= t0 && t <= t1)) return;
-    vbl_vec3 x = vbl_v3_madd(origin, direction, t);
-    double components[VBL_MAX_MEDIA] = {0};
-    double sigma_t = vbl_extinction_eval(ext, &ts->cursor, x, components);
+    double t = vbl_equiangular_sample(origin, direction, seg.t0, seg.t1, target, u_t, &pdf_t);
+    if (!(pdf_t > 0.0) || !(t >= seg.t0 && t <= seg.t1)) return;
+    vbl_vec3 x = vbl_segment_at(&seg, t);
+    vbl_medium_point mp;
+    double sigma_t = vbl_medium_query(scene, ext, &ts->cursor, x, &mp);
     if (!(sigma_t > 0.0)) return;
     vbl_light_sample ls;
-    if (!vbl_light_sample_incident(light, x, 0.5, 0.5, &ls) || !(vbl_v3_max_component(ls.li) > 0.0)) return;
-    vbl_vec3 kernel = vbl_media_scatter_kernel_at(scene, components, x, ts->cursor.time, vbl_v3_dot(direction, ls.wi));
+    if (!vbl_light_sample_incident(light, x, u1, u2, &ls) || !(vbl_v3_max_component(ls.li) > 0.0)) return;
+    double cos_theta = vbl_v3_dot(direction, ls.wi);
+    vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, cos_theta);
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
-    double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, t0, t, &ctx->tracking, rng);
+    double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, seg.t0, t, &ctx->tracking, rng);
     if (!(T_camera > 0.0)) return;
     double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
     if (!(T_light > 0.0)) return;
-    double q_ea = pdf_t / n_eq;
-    double w = vbl_pt_eq_weight(ctx->options.mis, q_ea, vbl_pt_eq_q_ff(ctx, origin, direction, t0, t, sigma_t));
-    double s = T_camera * T_light * w / q_ea;
+    double q, w;
+    if (quad) {
+        double nee, phase, eq;
+        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf, vbl_medium_phase_pdf(&mp, cos_theta), &nee,
+                                 &phase, &eq);
+        q = eq;
+        w = vbl_pt_eq_weight3(ctx->options.mis, eq, nee, phase);
+    } else {
+        q = pdf_t / n_eq;
+        w = vbl_pt_eq_weight(ctx->options.mis, q, vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / scene->light_count);
+    }
+    double s = T_camera * T_light * w / q;
     if (!isfinite(s)) return;
     L->x += beta.x * kernel.x * ls.li.x * s;
     L->y += beta.y * kernel.y * ls.li.y * s;

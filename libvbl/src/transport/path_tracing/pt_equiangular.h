@@ -16,14 +16,41 @@
  * optical depth (volume/control_depth.h; exact in homogeneous media) and q_ea(i, t) = p_ea,i(t) /
  * N_eq: both are deterministic functions of (segment, i, t) and w_ff + w_ea = 1 wherever either
  * strategy can sample, so the sum stays unbiased whatever the approximation in q_ff costs in
- * variance. Quad lights keep the free-flight NEE alone (not done: needs the light point first). */
+ * variance.
+ *
+ * Quad lights (option pt.equiangular_quads): a point y is drawn uniformly on the quad first (the
+ * NEE's own area sampling), then t equiangularly towards y. That path (x_t, y) can also come from
+ * the collision's NEE and from the scattered ray hitting the quad (phase sampling), so the three
+ * are weighted together (Veach 1997, eq. 9.13 / 9.14 over three strategies), each density per unit
+ * t and solid angle at x: nee = q_ff(t) / N * p_l, phase = q_ff(t) * p_phase(wi), eq = p_ea(t | y)
+ * / N_eq * p_l, with p_l the quad's area pdf in solid angle and q_ff(t) = sigma_t exp(-tau_c).
+ * The medium is read through the medium interface (media/medium.h). */
 #ifndef VBL_TRANSPORT_PT_EQUIANGULAR_H
 #define VBL_TRANSPORT_PT_EQUIANGULAR_H
 
 #include "transport/common/estimator.h"
 
-/* 1 if options select equiangular NEE and the scene has a point or spot light and media. */
+/* 1 if options select equiangular NEE and the scene has a point or spot light (or a quad light
+ * with pt.equiangular_quads) and media. */
 int vbl_pt_equiangular_active(const vbl_render_context* ctx);
+/* 1 if quad lights take part (equiangular active and pt.equiangular_quads). */
+int vbl_pt_equiangular_quads_active(const vbl_render_context* ctx);
+
+/* A medium vertex: at distance t (sigma_t there) on the segment (origin, unit direction, up to
+ * t_surface) its free flight came from. */
+typedef struct vbl_pt_eq_vertex {
+    vbl_vec3 origin, direction;
+    double t_surface, t, sigma_t;
+} vbl_pt_eq_vertex;
+
+enum { VBL_PT_EQ_NEE = 0, VBL_PT_EQ_PHASE = 1 };
+
+/* With quad lights active: the MIS weight of the path from medium vertex v along unit wi to the
+ * quad point at `distance`, for the collision's NEE (strategy VBL_PT_EQ_NEE) or the scattered
+ * ray hitting the quad (VBL_PT_EQ_PHASE; phase_pdf the phase pdf of wi at v in both cases). */
+double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_light* light,
+                                      const vbl_pt_eq_vertex* v, vbl_vec3 wi, double distance, double phase_pdf,
+                                      int strategy);
 
 /* The equiangular sample of one segment: adds w_ea K L T T_l / (p_ea / N_eq) * beta into *L.
  * t_surface: where the segment ends (INFINITY: escapes). u_pick picks the light, u_t the distance
@@ -35,7 +62,7 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light
- * and equiangular NEE is active. */
+ * and equiangular NEE is active (quads: vbl_pt_equiangular_quad_weight). */
 double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_light* light, vbl_vec3 origin,
                                     vbl_vec3 direction, double t_surface, double t, double sigma_t);
 

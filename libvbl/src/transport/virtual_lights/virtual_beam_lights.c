@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "media/medium.h"
 #include "transport/common/radius_schedule.h"
 #include "sampling/beam_light_pair.h"
 #include "transport/common/emission_estimate.h"
@@ -15,13 +16,18 @@
 #include "transport/surface/surface_gather.h"
 #include "transport/virtual_lights/vrl.h"
 #include "transport/virtual_lights/vrl_tree.h"
+#include "sampling/vrl_pair.h"
+#include "sampling/vsl_cone.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_beam_light_store {
     vbl_beam_light_settings settings;
     vbl_photon_store photons;
     double g_camera; /* HG g the sampler uses at camera points (any value is unbiased) */
-    double radius;   /* R_p of this pass */
+    double radius;   /* R_p of this pass (world units): the cap of every VSL's radius */
+    double radius_mfp; /* s_p x settings.radius_mfp (0: off): R_p(x) = min(radius, radius_mfp / sigma_t(x)) */
+    double sampler_radius; /* the pair sampler's R: min(radius, radius_mfp / majorant) <= every R_p(x) */
+    double thin_sin;  /* VSLs with R <= thin_sin w take the midpoint kernel (vbl_vsl_thin_cone_sin) */
     vbl_photon_beam_gather* beams; /* beams_single_scattering: bounce-0 photon beams */
     double beam_radius;
     vbl_surface_gather_settings gather; /* surfaces: VBL eqs 8-9 (R_p), surface VSLs (surface_gather.h) */
@@ -41,6 +47,8 @@ void vbl_beam_light_settings_from_options(const vbl_render_options* o, vbl_beam_
     if (o->beams.radius0 > 0.0) out->beams_radius0 = o->beams.radius0;
     if (o->beams.alpha > 0.0) out->beams_alpha = o->beams.alpha;
     out->select = o->vrl.select;
+    if (o->beam_lights.radius_mfp > 0.0) out->radius_mfp = o->beam_lights.radius_mfp;
+    out->kernel_tolerance = o->beam_lights.kernel_tolerance;
 }
 
 /* Default VSL radius R_0 of the vbl method. A VSL bounds the 1/w^2 falloff inside its radius (eq 9),
@@ -75,6 +83,11 @@ vbl_result vbl_beam_light_pass_begin_with(const vbl_render_context* ctx, const v
                          settings->radius0);
     if (settings->select < 0)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl select = %d must be >= 0", scene->path, settings->select);
+    if (isnan(settings->radius_mfp))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl radius_mfp is not a number", scene->path);
+    if (!(settings->kernel_tolerance >= 0.0 && settings->kernel_tolerance <= 1.0))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vbl kernel_tolerance = %g is outside [0, 1]", scene->path,
+                         settings->kernel_tolerance);
     vbl_beam_light_store* s = calloc(1, sizeof *s);
     if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vbl store)", scene->path);
     s->settings = *settings;
@@ -86,6 +99,9 @@ vbl_result vbl_beam_light_pass_begin_with(const vbl_render_context* ctx, const v
         g += wi * m->g;
     }
     s->g_camera = w > 0.0 ? g / w : 0.0;
+    double g_max = 0.0;
+    for (int i = 0; i < scene->media_count; ++i) g_max = fmax(g_max, fabs(scene->media[i].g));
+    s->thin_sin = vbl_vsl_thin_cone_sin(g_max, settings->kernel_tolerance);
     if (settings->beams_single_scattering && !(settings->beams_alpha > 0.0 && settings->beams_alpha <= 1.0)) {
         free(s);
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: beams alpha = %g is outside (0, 1]", scene->path,
@@ -114,6 +130,12 @@ vbl_result vbl_beam_light_pass_begin_with(const vbl_render_context* ctx, const v
      * media's bounding sphere and this pass's total length of the VRLs the VBLs use */
     double r0 = settings->radius0 > 0.0 ? settings->radius0 : vbl_beam_light_default_radius(scene, &s->photons, M);
     s->radius = vbl_radius_at_pass(r0, settings->alpha, 2, ctx->pass);
+    /* optical units: the same eq-11 factor s_p = R_p / R_0 on f / sigma_t(x) */
+    const double shrink = vbl_radius_at_pass(1.0, settings->alpha, 2, ctx->pass);
+    s->radius_mfp = settings->radius_mfp > 0.0 && isfinite(settings->radius_mfp) ? settings->radius_mfp * shrink : 0.0;
+    s->sampler_radius = s->radius;
+    if (s->radius_mfp > 0.0 && ctx->extinction->max_sigma_t > 0.0)
+        s->sampler_radius = fmin(s->radius, s->radius_mfp / ctx->extinction->max_sigma_t);
     s->gather.vrls = 1;
     s->gather.vrl_radius = s->radius; /* surface_from_volume: VBL eqs 8-9 with R_p */
     s->gather.kernel_samples = VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
@@ -173,53 +195,120 @@ double vbl_beam_light_store_radius(const void* store)
     return store ? ((const vbl_beam_light_store*)store)->radius : 0.0;
 }
 
-/* eq (10)'s sum_ij sigma_s,i(u) sigma_s,j(v) K_R(g_i, g_j) over media components (RGB). One
- * lattice jitter for all pairs; pairs with equal g share one kernel evaluation. */
-static vbl_vec3 vbl_beam_light_kernel_sum(const vbl_scene* scene, const double* comps_u, const double* comps_v, vbl_vec3 xu,
-                                   vbl_vec3 d, vbl_vec3 xv, vbl_vec3 ld, double radius, int n, double j1, double j2)
+static double vbl_beam_light_radius_at(const vbl_beam_light_store* s, double sigma_t)
 {
-    vbl_vec3 su[VBL_MAX_MEDIA], sv[VBL_MAX_MEDIA], acc = vbl_v3(0.0, 0.0, 0.0);
-    for (int i = 0; i < scene->media_count; ++i) {
-        su[i] = comps_u[i] > 0.0 ? vbl_v3_scale(scene->media[i].albedo, comps_u[i]) : vbl_v3(0.0, 0.0, 0.0);
-        sv[i] = comps_v[i] > 0.0 ? vbl_v3_scale(scene->media[i].albedo, comps_v[i]) : vbl_v3(0.0, 0.0, 0.0);
-    }
-    for (int i = 0; i < scene->media_count; ++i) {
-        if (!(vbl_v3_max_component(su[i]) > 0.0)) continue;
-        for (int j = 0; j < scene->media_count; ++j) {
-            if (!(vbl_v3_max_component(sv[j]) > 0.0)) continue;
-            double k = vbl_vsl_kernel(xu, d, scene->media[i].g, xv, ld, scene->media[j].g, radius, n, j1, j2);
-            if (k > 0.0) acc = vbl_v3_madd(acc, vbl_v3_mul(su[i], sv[j]), k);
+    return s->radius_mfp > 0.0 && sigma_t > 0.0 ? fmin(s->radius, s->radius_mfp / sigma_t) : s->radius;
+}
+
+double vbl_beam_light_store_radius_at(const void* store, double sigma_t)
+{
+    return store ? vbl_beam_light_radius_at(store, sigma_t) : 0.0;
+}
+
+/* eq (10)'s sum_ij sigma_s,i(u) sigma_s,j(v) K_R(g_i, g_j) over the lobes of the two medium points
+ * (RGB), by the cone quadrature. One lattice jitter for all pairs. */
+static vbl_vec3 vbl_beam_light_kernel_sum(const vbl_medium_point* mu, const vbl_medium_point* mv, vbl_vec3 xu,
+                                          vbl_vec3 d, vbl_vec3 xv, vbl_vec3 ld, double radius, int n, double j1,
+                                          double j2)
+{
+    vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    for (int i = 0; i < mu->count; ++i) {
+        vbl_vec3 su = vbl_v3_scale(mu->lobe[i].albedo, mu->lobe[i].sigma_t);
+        for (int j = 0; j < mv->count; ++j) {
+            vbl_vec3 sv = vbl_v3_scale(mv->lobe[j].albedo, mv->lobe[j].sigma_t);
+            double k = vbl_vsl_kernel(xu, d, mu->lobe[i].g, xv, ld, mv->lobe[j].g, radius, n, j1, j2);
+            if (k > 0.0) acc = vbl_v3_madd(acc, vbl_v3_mul(su, sv), k);
         }
     }
     return acc;
 }
 
-/* Adds one VRL's VBL estimate over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *acc. */
+/* The eq (10) factor sum_ij sigma_s,i sigma_s,j K_R at one pair of points, R = R_p(x_v) (optical):
+ * the thin-cone midpoint (the VRL kernel times the cone's geometry) where its error bound
+ * (beam_light_pair.h) is below settings.kernel_tolerance: at once where R <= thin_sin w (the global
+ * bound), else by the bound local to this cone and these lobes; otherwise the cone quadrature. */
+static vbl_vec3 vbl_beam_light_pair_kernel(const vbl_beam_light_store* s, const vbl_medium_point* mu,
+                                           const vbl_medium_point* mv, vbl_vec3 xu, vbl_vec3 d, vbl_vec3 xv,
+                                           vbl_vec3 ld, double j1, double j2)
+{
+    const double R = vbl_beam_light_radius_at(s, mv->sigma_t);
+    vbl_vsl_cone cone;
+    if (!vbl_vsl_cone_init(&cone, vbl_v3_sub(xu, xv), R, vbl_v3_scale(d, -1.0))) return vbl_v3(0.0, 0.0, 0.0);
+    const double cl = vbl_v3_dot(ld, cone.axis), cc = -vbl_v3_dot(cone.axis, d);
+    int thin = cone.radius <= s->thin_sin * cone.w;
+    if (!thin && s->settings.kernel_tolerance > 0.0 && cone.w > cone.radius) {
+        /* the local bound over this cone: each end's largest lobe bound (beam_light_pair.h) */
+        double b1 = 0.0, b2 = 0.0, b1u = 0.0, b2u = 0.0, b1v = 0.0, b2v = 0.0, x1, x2;
+        for (int i = 0; i < mu->count; ++i) {
+            vbl_vsl_lobe_local_bounds(mu->lobe[i].g, cc, cone.sin_half, cone.cos_half, &x1, &x2);
+            b1u = fmax(b1u, x1);
+            b2u = fmax(b2u, x2);
+        }
+        for (int j = 0; j < mv->count; ++j) {
+            vbl_vsl_lobe_local_bounds(mv->lobe[j].g, cl, cone.sin_half, cone.cos_half, &x1, &x2);
+            b1v = fmax(b1v, x1);
+            b2v = fmax(b2v, x2);
+        }
+        b1 = b1u + b1v;
+        b2 = b2u + b2v;
+        thin = vbl_vsl_midpoint_error_bound(cone.half_angle, b1, b2) <= s->settings.kernel_tolerance;
+    }
+    if (thin) {
+        vbl_vec3 kv = vbl_medium_phase_kernel(mv, cl);
+        vbl_vec3 ku = vbl_medium_phase_kernel(mu, cc);
+        return vbl_v3_scale(vbl_v3_mul(kv, ku), cone.geometry);
+    }
+    return vbl_beam_light_kernel_sum(mu, mv, xu, d, xv, ld, R, s->settings.kernel_samples, j1, j2);
+}
+
+/* Adds one VRL's VBL estimate over its part v in [v0, v1] (samples draws of the pair sampler) times
+ * `weight` to *acc. A pair whose every VSL is thin from every camera point (R_p <= thin_sin x the
+ * segments' distance, or R_p == 0: the VRL limit) draws (u, v) with the VRL sampler
+ * (sampling/vrl_pair.h), which costs what vrl's does; the others with the two-stage VBL sampler at
+ * the sampler radius (<= every VSL's radius, so pdf >= c K_R: bounded weights). */
 static void vbl_beam_light_estimate(const vbl_render_context* ctx, const vbl_beam_light_store* s, vbl_thread_state* ts,
                              const vbl_vrl* l, double v0, double v1, vbl_vec3 o, vbl_vec3 d, double u0, double u1,
                              const vbl_transmittance_cache* cache, double weight, vbl_rng* rng, vbl_vec3* acc)
 {
     const vbl_scene* scene = ctx->scene;
-    const int S = s->settings.samples, n = s->settings.kernel_samples;
-    const double R = s->radius;
-    double comps_u[VBL_MAX_MEDIA], comps_v[VBL_MAX_MEDIA];
+    const int S = s->settings.samples;
+    vbl_medium_point mu, mv;
     vbl_beam_light_pair pair;
-    if (!vbl_beam_light_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g, R))
+    vbl_vrl_pair vpair;
+    int thin = !(s->radius > 0.0);
+    if (!thin && s->thin_sin > 0.0) {
+        double h = vbl_segment_distance(vbl_v3_madd(o, d, u0), d, u1 - u0, vbl_v3_madd(l->origin, l->direction, v0),
+                                        l->direction, v1 - v0);
+        thin = s->radius <= s->thin_sin * h;
+    }
+    if (thin) {
+        if (!vbl_vrl_pair_init(&vpair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g)) return;
+    } else if (!vbl_beam_light_pair_init(&pair, o, d, u0, u1, l->origin, l->direction, v0, v1, s->g_camera, l->g,
+                                         s->sampler_radius)) {
         return;
+    }
     for (int k = 0; k < S; ++k) {
         double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
-        double j1 = vbl_rng_uniform(rng), j2 = vbl_rng_uniform(rng);
-        vbl_beam_light_pair_sample ps;
-        if (!vbl_beam_light_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) continue;
-        vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
-        double Tc = vbl_transmittance_cache_eval(cache, ps.u);
+        double j1 = vbl_rng_uniform(rng), j2 = vbl_rng_uniform(rng); /* the kernel's lattice jitter */
+        double su, sv, pdf;
+        if (thin) {
+            vbl_vrl_pair_sample ps;
+            if (!vbl_vrl_pair_draw(&vpair, xi1, xi2, &ps)) continue;
+            su = ps.u, sv = ps.v, pdf = ps.pdf;
+        } else {
+            vbl_beam_light_pair_sample ps;
+            if (!vbl_beam_light_pair_draw(&pair, xi1, xi2, &ps)) continue;
+            su = ps.u, sv = ps.v, pdf = ps.pdf;
+        }
+        if (!(pdf > 0.0)) continue;
+        vbl_vec3 xu = vbl_v3_madd(o, d, su), xv = vbl_v3_madd(l->origin, l->direction, sv);
+        double Tc = vbl_transmittance_cache_eval(cache, su);
         if (!(Tc > 0.0)) continue;
-        double Tl = vbl_vrl_transmittance(&s->photons, l, ps.v);
+        double Tl = vbl_vrl_transmittance(&s->photons, l, sv);
         if (!(Tl > 0.0)) continue;
-        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xv, comps_v) > 0.0)) continue;
-        if (!(vbl_extinction_eval(ctx->extinction, &ts->cursor, xu, comps_u) > 0.0)) continue;
-        vbl_vec3 f = vbl_beam_light_kernel_sum(scene, comps_u, comps_v, xu, d, xv, l->direction, R, n, j1, j2);
-        f = vbl_v3_mul(f, l->power);
+        if (!(vbl_medium_query(scene, ctx->extinction, &ts->cursor, xv, &mv) > 0.0)) continue;
+        if (!(vbl_medium_query(scene, ctx->extinction, &ts->cursor, xu, &mu) > 0.0)) continue;
+        vbl_vec3 f = vbl_v3_mul(vbl_beam_light_pair_kernel(s, &mu, &mv, xu, d, xv, l->direction, j1, j2), l->power);
         if (!(vbl_v3_max_component(f) > 0.0)) continue;
         /* T along the connecting segment VSL centre -> camera point (w = 0: nothing to cross) */
         vbl_vec3 to = vbl_v3_sub(xu, xv);
@@ -228,7 +317,7 @@ static void vbl_beam_light_estimate(const vbl_render_context* ctx, const vbl_bea
                                                             rng)
                             : 1.0;
         if (!(Tw > 0.0)) continue;
-        *acc = vbl_v3_madd(*acc, f, Tc * Tl * Tw * weight / (S * ps.pdf));
+        *acc = vbl_v3_madd(*acc, f, Tc * Tl * Tw * weight / (S * pdf));
     }
 }
 
@@ -272,7 +361,6 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
     if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     if (beams_direct) vbl_photon_beam_gather_eval_cached(ctx, s->beams, ts, &cache, o, d, u0, u1, out);
-    if (!(s->radius > 0.0)) return;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
     if (s->settings.select > 0) {
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */

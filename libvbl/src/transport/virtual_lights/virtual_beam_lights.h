@@ -21,7 +21,11 @@
  * transport/common/light_emission.h) and the total length of THIS pass's VRLs (deterministic: the store
  * depends only on scene, seed and pass). Bias ~ R^2 falls like p^(alpha - 1), variance of the
  * pass average like p^(-alpha) (radius_schedule.h): both -> 0 with fixed memory per pass.
- * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests). */
+ * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests).
+ * Issue 13 item 4: the VSL at x has radius min(R_p, s_p radius_mfp / sigma_t(x)) (optical units,
+ * s_p = R_p / R_0); the pair sampler uses min(R_p, s_p radius_mfp / majorant), below every VSL's
+ * radius; R_p == 0 is the VRL limit (the VRL sampler and f f / w^2); the kernel is the thin-cone
+ * midpoint wherever its error bound is below kernel_tolerance (sampling/beam_light_pair.h). */
 #ifndef VBL_TRANSPORT_VBL_BEAMS_H
 #define VBL_TRANSPORT_VBL_BEAMS_H
 
@@ -40,15 +44,28 @@ typedef struct vbl_beam_light_settings {
     double beams_radius0; /* <= 0: default from the scene and the bounce-0 beams' length */
     double beams_alpha;   /* (0, 1]: eq 11 with d = 1 */
     int select;           /* > 0: K VRLs per camera sample from the light tree (vrl_tree.h, as vrl); 0: all */
+    /* Optical radius (issue 13 item 4): the VSL at x has R_p(x) = s_p min(R_0, radius_mfp / sigma_t(x)),
+     * s_p = R_p / R_0 of eq 11; <= 0: world units only (R_p). */
+    double radius_mfp;
+    /* Relative error bound of the thin-cone kernel (vbl_vsl_kernel_adaptive; beam_light_pair.h); pairs
+     * whose every VSL is that thin take the VRL sampler; 0: always the cone quadrature. */
+    double kernel_tolerance;
 } vbl_beam_light_settings;
 
 #define VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT 16
-#define VBL_BEAM_LIGHT_SETTINGS_DEFAULT {0.0, 0.7, 1, VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7, 0}
+/* The default fraction of the local mean free path (render option vbl_radius_mfp = 0) and the
+ * default kernel tolerance (vbl_kernel_tolerance): measured in docs/readme/beams.md. */
+#define VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT 1.0
+#define VBL_BEAM_LIGHT_KERNEL_TOLERANCE_DEFAULT 0.01
+#define VBL_BEAM_LIGHT_SETTINGS_DEFAULT                                                                        \
+    {0.0, 0.7, 1, VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7, 0, VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT, \
+     VBL_BEAM_LIGHT_KERNEL_TOLERANCE_DEFAULT}
 /* What render options' vbl_single_scattering = 0 selects (measured on samples/cloud.json,
  * docs/readme/beams.md): 0 equiangular, 1 photon beams. */
 #define VBL_BEAM_LIGHT_BEAMS_SINGLE_SCATTERING_DEFAULT 0
 
-/* From render options: vbl_radius0, vbl_alpha (0: 0.7), vrl_samples (0: 1), vrl_long,
+/* From render options: vbl_radius0, vbl_alpha (0: 0.7), vbl_radius_mfp (0: default), vbl_kernel_tolerance,
+ * vrl_samples (0: 1), vrl_long,
  * vbl_single_scattering (0: VBL_BEAM_LIGHT_BEAMS_SINGLE_SCATTERING_DEFAULT, 1: equiangular, 2: beams),
  * beams_radius0, beams_alpha (0: 0.7). */
 void vbl_beam_light_settings_from_options(const vbl_render_options* options, vbl_beam_light_settings* out);
@@ -61,6 +78,8 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
 void vbl_beam_light_pass_end(const vbl_render_context* ctx, void* store);
 /* The VSL radius R_p the store uses (world units; tests, diagnostics). */
 double vbl_beam_light_store_radius(const void* store);
+/* The radius of a VSL at a point of extinction sigma_t: min(R_p, s_p radius_mfp / sigma_t). */
+double vbl_beam_light_store_radius_at(const void* store, double sigma_t);
 /* The pass's photon store (tests). */
 struct vbl_photon_store;
 const struct vbl_photon_store* vbl_beam_light_store_photons(const void* store);

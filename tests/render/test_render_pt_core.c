@@ -1,0 +1,194 @@
+/* pt's core switches of issue 14 (items 4 and 1): pt.shadow_transmittance = residual-mid
+ * (residual ratio tracking with the mid-bound control on pt's transmittance estimates) and
+ * pt.equiangular_quads (quad lights in the equiangular NEE, three-strategy MIS) in a
+ * heterogeneous medium among Lambert surfaces lit by a point, a quad and a distant light:
+ *   - quick group: bit-identical at 1 and 2 threads, and different from the default (the option
+ *     takes effect);
+ *   - agreement group (slow): every layer's image mean agrees with the default's (ratio tracking)
+ *     within Z_CRIT standard errors of the difference (K independent renders each). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render_test_util.h"
+#include "surface_render_util.h"
+#include "transport_test_util.h"
+#include "vbl/vbl.h"
+#include "volume_test_grid.h"
+
+#define W 12
+#define H 10
+#define K 16
+#define Z_CRIT 4.5
+
+typedef struct core_case {
+    vbl_scene* scene;
+    vbl_volume* volume;
+} core_case;
+
+typedef struct core_config {
+    const char* name;
+    vbl_pt_shadow_transmittance shadow;
+    int equiangular_quads;
+} core_config;
+
+/* quad_only: one 1 x 1 quad light inside the top of the medium (no point or distant light), so
+ * the paths the three quad strategies share carry most of volume_direct. */
+static core_case make_case(int quad_only)
+{
+    core_case c;
+    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, W, H);
+    c.scene = tt_scene(&cam);
+    c.volume = tt_make_sphere(16, 0.9);
+    assert_int_equal(vbl_scene_add_medium(c.scene, c.volume, 2.0, vbl_v3(0.9, 0.8, 0.7), 0.3, NULL), VBL_SUCCESS);
+    if (!quad_only) {
+        tt_add_point(c.scene, vbl_v3(0.3, -0.2, 1.15), 3.0);
+        tt_add_distant(c.scene, vbl_v3(0.3, 0.5, -1.0), 1.0);
+    }
+    vbl_light q;
+    memset(&q, 0, sizeof q);
+    q.type = VBL_LIGHT_QUAD;
+    q.corner = quad_only ? vbl_v3(-0.5, -0.5, 0.35) : vbl_v3(-1.0, -0.6, 1.6);
+    q.edge1 = vbl_v3(0, 1, 0);
+    q.edge2 = vbl_v3(1, 0, 0); /* normal -z: emits downward */
+    q.area = 1.0;
+    q.normal = vbl_v3(0, 0, -1);
+    q.color = vbl_v3(2, 2, 2);
+    assert_int_equal(vbl_scene_add_light(c.scene, &q), VBL_SUCCESS);
+    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(c.scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
+    add_quad(c.scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+    return c;
+}
+
+static vbl_film* render_pt(const vbl_scene* scene, const core_config* cfg, int passes, int spp, uint64_t seed,
+                           int threads)
+{
+    vbl_render_options o = tt_options(passes, spp, 0, seed);
+    o.method = VBL_RENDER_PT;
+    o.threads = threads;
+    o.pt.equiangular = 1;
+    o.pt.shadow_transmittance = cfg->shadow;
+    o.pt.equiangular_quads = cfg->equiangular_quads;
+    vbl_film* film = NULL;
+    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+static const core_config cfg_default = {"ratio, no quads", VBL_PT_SHADOW_RENDER, 0};
+static const core_config cfg_mid = {"shadow residual-mid", VBL_PT_SHADOW_RESIDUAL_MID, 0};
+/* the defaults (0: residual-mid, quads on) are the two switches together */
+static const core_config cfg_quads = {"equiangular quads", VBL_PT_SHADOW_RENDER, 1};
+
+static void check_deterministic_and_active(const core_config* cfg)
+{
+    core_case c = make_case(0);
+    vbl_film* a = render_pt(c.scene, cfg, 2, 2, 5, 1);
+    vbl_film* b = render_pt(c.scene, cfg, 2, 2, 5, 2);
+    vbl_film* d = render_pt(c.scene, &cfg_default, 2, 2, 5, 2);
+    int differs = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        const float* pa = vbl_film_layer_rgb(a, layer_names[l]);
+        const float* pb = vbl_film_layer_rgb(b, layer_names[l]);
+        const float* pd = vbl_film_layer_rgb(d, layer_names[l]);
+        assert_true((pa == NULL) == (pb == NULL));
+        if (!pa) continue;
+        assert_memory_equal(pa, pb, sizeof(float) * 3 * W * H);
+        for (int k = 0; pd && k < 3 * W * H; ++k) differs |= pa[k] != pd[k];
+    }
+    assert_true(differs);
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(d);
+    vbl_scene_release(c.scene);
+    vt_free(c.volume);
+}
+
+static void test_shadow_mid_deterministic(void** state)
+{
+    (void)state;
+    check_deterministic_and_active(&cfg_mid);
+}
+
+static void test_equiangular_quads_deterministic(void** state)
+{
+    (void)state;
+    check_deterministic_and_active(&cfg_quads);
+}
+
+/* Image means (per pixel, R+G+B) of every layer over K renders: mean and standard error. */
+static void layer_stats(const vbl_scene* scene, const core_config* cfg, uint64_t seed0, double mean[VBL_CLASS_COUNT],
+                        double se[VBL_CLASS_COUNT])
+{
+    double s[VBL_CLASS_COUNT] = {0}, s2[VBL_CLASS_COUNT] = {0};
+    for (int k = 0; k < K; ++k) {
+        vbl_film* film = render_pt(scene, cfg, 4, 16, seed0 + 7919u * (uint64_t)k, 2);
+        check_sum_to_beauty(film);
+        for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+            double m = layer_total(film, layer_names[l]) / (W * H);
+            s[l] += m;
+            s2[l] += m * m;
+        }
+        vbl_film_release(film);
+    }
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        mean[l] = s[l] / K;
+        double var = (s2[l] - K * mean[l] * mean[l]) / (K - 1);
+        se[l] = sqrt(fmax(var, 0.0) / K);
+    }
+}
+
+static void check_agrees(const core_config* cfg, int quad_only)
+{
+    core_case c = make_case(quad_only);
+    double m_on[VBL_CLASS_COUNT], se_on[VBL_CLASS_COUNT], m_off[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
+    layer_stats(c.scene, cfg, 11, m_on, se_on);
+    layer_stats(c.scene, &cfg_default, 22, m_off, se_off);
+    int checked = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        double se = sqrt(se_on[l] * se_on[l] + se_off[l] * se_off[l]);
+        if (!(m_off[l] > 0.0)) continue;
+        double z = (m_on[l] - m_off[l]) / se;
+        printf("%-22s %s %.6f (se %.6f)  default %.6f (se %.6f)  z = %+.2f  se ratio %.2f\n", layer_names[l],
+               cfg->name, m_on[l], se_on[l], m_off[l], se_off[l], z, se_on[l] / se_off[l]);
+        assert_true(se > 0.0 && se < 0.2 * m_off[l]);
+        assert_true(fabs(z) <= Z_CRIT);
+        ++checked;
+    }
+    assert_true(checked >= 6); /* every class but emission (no light in view) */
+    vbl_scene_release(c.scene);
+    vt_free(c.volume);
+}
+
+static void test_shadow_mid_agrees_per_layer(void** state)
+{
+    (void)state;
+    check_agrees(&cfg_mid, 0);
+}
+
+static void test_equiangular_quads_agree_per_layer(void** state)
+{
+    (void)state;
+    check_agrees(&cfg_quads, 1);
+}
+
+/* `test_render_pt_core` runs the quick group; `... agreement` the statistical renders. */
+int main(int argc, char** argv)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shadow_mid_deterministic),
+        cmocka_unit_test(test_equiangular_quads_deterministic),
+    };
+    const struct CMUnitTest agreement[] = {
+        cmocka_unit_test(test_shadow_mid_agrees_per_layer),
+        cmocka_unit_test(test_equiangular_quads_agree_per_layer),
+    };
+    if (argc > 1 && !strcmp(argv[1], "agreement")) return cmocka_run_group_tests(agreement, NULL, NULL);
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
