@@ -128,15 +128,26 @@ int vbl_cmd_info(int argc, char** argv)
             const vbl_grid_description* d = &grids[g];
             printf("[%zu] '%s' %s\n", g, d->name, d->type);
             const char* role = vbl_grid_role_for(d->name);
-            int unused_role = role && (!strcmp(role, "albedo") || !strcmp(role, "velocity"));
-            printf("    %-16s %s%s\n", "role:", role ? role : "none (name it in the scene to use it)",
-                   unused_role ? " (not used by this version)" : "");
+            const int vector = strstr(d->type, "vec3") != NULL || strstr(d->type, "Vec3") != NULL;
+            const int vector_role = role && (!strcmp(role, "albedo") || !strcmp(role, "velocity"));
+            const size_t len = strlen(d->name);
+            const int component = len > 2 && d->name[len - 2] == '.' && strchr("xyz", d->name[len - 1]);
+            const char* detail = "";
+            if (!role && vector) detail = " (a vector grid: name it as a medium's albedo.grid or velocity.grid)";
+            else if (!role) detail = " (name it in the scene to use it)";
+            else if (vector_role && vector) detail = " (vector: x, y, z components)";
+            else if (vector_role && component && !strcmp(role, "velocity")) detail = " (one component of a float triplet)";
+            else if (!strcmp(role, "velocity")) detail = " (needs a vec3s grid or a .x/.y/.z triplet)";
+            else if (vector) detail = " (a vector grid: this role needs a float grid)";
+            printf("    %-16s %s%s\n", "role:", role ? role : "none", detail);
             printf("    %-16s %s\n", "codec:", d->codec);
             if (!d->is_float) {
                 printf("    %-16s %.17g %.17g %.17g\n", "voxel size:", d->voxel_size[0], d->voxel_size[1], d->voxel_size[2]);
                 printf("    %-16s %llu\n", "active voxels:", (unsigned long long)d->active_voxels);
                 vbl_info_print_bbox_i("index bbox:", d->index_bbox_min, d->index_bbox_max, d->active_voxels);
-                printf("    %-16s not a float grid (not loadable as a volume)\n", "note:");
+                printf("    %-16s %s\n", "note:",
+                       vector_role && vector ? "a vector grid (loaded by its role, not as a density volume)"
+                                             : "not a float grid (not loadable as a volume)");
                 continue;
             }
             int same_name_before = 0; /* the n-th grid of this name, for duplicate names */

@@ -22,6 +22,15 @@ vbl_result vbl_vdb_read_float_grid(const char* path, const char* grid_name, int 
                                    void** out_buffer, size_t* out_size, int* out_file_grid_index,
                                    char* message, size_t message_size);
 
+/* Component `component` (0 x, 1 y, 2 z) of a vec3s/vec3d grid (OpenVDB files; half storage too)
+ * as a NanoVDB float grid with the same topology, tile structure, background component and
+ * transform; its name is "<grid>.x" / ".y" / ".z". Selection as vbl_vdb_read_float_grid. A float
+ * grid fails with VBL_ERROR_GRID_TYPE; a vector grid in a .nvdb file with VBL_ERROR_UNSUPPORTED
+ * (docs/readme/vdb.md). */
+vbl_result vbl_vdb_read_vec3_component(const char* path, const char* grid_name, int grid_index, int component,
+                                       void** out_buffer, size_t* out_size, int* out_file_grid_index,
+                                       char* message, size_t message_size);
+
 /* Description of every grid in a file, for `vbl info` (float or not). */
 typedef struct vbl_vdb_grid_desc {
     char name[256];

@@ -191,6 +191,31 @@ extern "C" vbl_result vbl_vdb_read_float_grid(const char* path, const char* grid
     });
 }
 
+extern "C" vbl_result vbl_vdb_read_vec3_component(const char* path, const char* grid_name, int grid_index, int component,
+                                                 void** out_buffer, size_t* out_size, int* out_file_grid_index,
+                                                 char* message, size_t message_size)
+{
+    if (message && message_size) message[0] = '\0';
+    if (!path || !out_buffer || !out_size || component < 0 || component > 2)
+        return fail(message, message_size, path, VBL_ERROR_INVALID_ARGUMENT, "vbl_vdb_read_vec3_component: bad argument");
+    *out_buffer = nullptr;
+    *out_size = 0;
+    return guarded(path, message, message_size, [&] {
+        FileKind kind = sniff_file(path);
+        std::vector<GridEntry> grids = kind == FileKind::OpenVdb ? openvdb_list(path, false) : nanovdb_list(path);
+        std::size_t index = select_grid(grids, grid_name, grid_index);
+        const GridEntry& entry = grids[index];
+        if (!is_vec3_type(entry))
+            throw Failure(VBL_ERROR_GRID_TYPE, "grid [" + std::to_string(index) + "] '" + printable(entry.desc.name) + "' is " +
+                                                   entry.desc.type + ", not a vec3s/vec3d grid");
+        if (kind != FileKind::OpenVdb)
+            throw Failure(VBL_ERROR_UNSUPPORTED, "grid '" + printable(entry.desc.name) +
+                                                     "': vector grids are read from OpenVDB (.vdb) files only, not NanoVDB");
+        openvdb_read_vec3_component(path, entry, component, out_buffer, out_size);
+        if (out_file_grid_index) *out_file_grid_index = int(index);
+    });
+}
+
 extern "C" vbl_result vbl_vdb_list_grids(const char* path, vbl_vdb_grid_desc** out_grids, size_t* out_count,
                                          char* message, size_t message_size)
 {

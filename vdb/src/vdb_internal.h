@@ -39,6 +39,13 @@ std::vector<GridEntry> openvdb_list(const std::string& path, bool describe);
 // Reads entry `entry` (a float grid) and converts it to a NanoVDB buffer (vbl_aligned_alloc).
 void openvdb_read_float(const std::string& path, const GridEntry& entry, void** buffer, std::size_t* size);
 
+// Reads entry `entry` (a vec3s or vec3d grid) and converts component `component` to a NanoVDB
+// float buffer (vdb_openvdb_read.cc).
+void openvdb_read_vec3_component(const std::string& path, const GridEntry& entry, int component, void** buffer,
+                                 std::size_t* size);
+// The entry's type is a 3-vector of floats or doubles ("vec3s", "vec3d", "half vec3s").
+bool is_vec3_type(const GridEntry& entry);
+
 // Size pre-checks before OpenVDB reads (vdb_openvdb_sizes.cc): each reads ahead from the stream's
 // position, throws Failure(VBL_ERROR_CORRUPT_FILE) naming the field when a stated length exceeds
 // the bytes left in the file, and restores the position.

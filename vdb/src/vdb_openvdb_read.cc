@@ -208,6 +208,64 @@ void openvdb_read_float(const std::string& path, const GridEntry& entry, void** 
     *buffer = handle.buffer().release();
 }
 
+bool is_vec3_type(const GridEntry& entry)
+{
+    std::string t = entry.desc.type;
+    if (t.rfind("half ", 0) == 0) t = t.substr(5);
+    return t == "vec3s" || t == "vec3d" || t == "Vec3f" || t == "Vec3d";
+}
+
+namespace {
+
+// One component of a vector grid as a float grid of the same topology: the float tree is a
+// topology copy (same leaves and tiles, same active states), then both trees are walked in
+// lockstep over every stored value (leaf voxels, tiles at every level), which visit identical
+// positions in identical order because the topologies are equal.
+template<typename VecGridT>
+openvdb::FloatGrid::Ptr component_grid(const VecGridT& vec, int component)
+{
+    using VecT = typename VecGridT::ValueType;
+    const VecT bg = vec.background();
+    auto out = openvdb::FloatGrid::create(float(bg[component]));
+    out->setTransform(vec.transform().copy());
+    out->setName(vec.getName() + (component == 0 ? ".x" : component == 1 ? ".y" : ".z"));
+    out->setTree(std::make_shared<openvdb::FloatTree>(vec.tree(), float(bg[component]), openvdb::TopologyCopy()));
+    auto src = vec.tree().cbeginValueAll();
+    auto dst = out->tree().beginValueAll();
+    for (; src && dst; ++src, ++dst) {
+        if (src.getCoord() != dst.getCoord() || src.getDepth() != dst.getDepth())
+            throw Failure(VBL_ERROR_INTERNAL, "vector grid '" + printable(vec.getName()) + "': topology copy out of step");
+        dst.setValue(float((*src)[component]));
+    }
+    if (bool(src) != bool(dst))
+        throw Failure(VBL_ERROR_INTERNAL, "vector grid '" + printable(vec.getName()) + "': topology copy sizes differ");
+    return out;
+}
+
+} // namespace
+
+void openvdb_read_vec3_component(const std::string& path, const GridEntry& entry, int component, void** buffer,
+                                 std::size_t* size)
+{
+    initialize_openvdb();
+    openvdb::io::File file(path);
+    file.open(false);
+    std::ifstream probe(path, std::ios::in | std::ios::binary | std::ios::ate);
+    const std::streamoff file_size = probe ? std::streamoff(probe.tellg()) : 0;
+    openvdb::GridBase::Ptr base = read_guarded(entry.open_name, file_size, [&] { return file.readGrid(entry.open_name); });
+    if (!base->transform().baseMap()->isLinear())
+        throw Failure(VBL_ERROR_UNSUPPORTED, "grid '" + std::string(entry.desc.name) + "' has a non-affine (" +
+                                                 base->transform().baseMap()->type() + ") transform");
+    openvdb::FloatGrid::Ptr grid;
+    if (auto vs = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base)) grid = component_grid(*vs, component);
+    else if (auto vd = openvdb::gridPtrCast<openvdb::Vec3DGrid>(base)) grid = component_grid(*vd, component);
+    else throw Failure(VBL_ERROR_GRID_TYPE, "grid '" + std::string(entry.desc.name) + "' is not a vec3s/vec3d grid");
+    nanovdb::GridHandle<AlignedBuffer> handle = nanovdb::openToNanoVDB<AlignedBuffer, openvdb::FloatTree>(*grid);
+    if (!handle.data() || handle.size() == 0) throw Failure(VBL_ERROR_INTERNAL, "NanoVDB conversion produced no grid");
+    *size = handle.size();
+    *buffer = handle.buffer().release();
+}
+
 } // namespace vbl_vdb
 
 #pragma GCC visibility pop

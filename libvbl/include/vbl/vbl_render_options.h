@@ -183,7 +183,9 @@ typedef enum vbl_render_option_effect {
       "one beauty layer per light group (lights' \"group\"; untagged lights and emissive media: default); "   \
       "renders the groups one after another (time x groups)")                                               \
     X(, min_passes, min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,         \
-      "passes that complete even past time_limit (0: the limit holds for the first pass too)")
+      "passes that complete even past time_limit (0: the limit holds for the first pass too)")          \
+    X(, motion_blur, motion_blur, int, BOOL, "motion_blur", "--motion-blur", 1, 0, 1, 0, NULL, HASH,        \
+      "velocity motion blur over camera.shutter for media with a velocity grid (pt; 0: the frame's instant)")
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \

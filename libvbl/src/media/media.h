@@ -28,6 +28,15 @@ int vbl_media_sample_phase(const vbl_scene* scene, const double* component_sigma
 int vbl_media_scatter(const vbl_scene* scene, const double* component_sigma_t, double sigma_t, vbl_vec3 travel,
                       double u0, double u1, double u2, vbl_vec3* wi, double* pdf, vbl_vec3* throughput);
 
+/* The same two at scene point p and path time `time` (seconds, 0 without motion blur): with an
+ * albedo grid, sigma_s,i = albedo_i(p) sigma_t,i (media/medium_grids.h); otherwise bit for bit
+ * the functions above. */
+vbl_vec3 vbl_media_scatter_kernel_at(const vbl_scene* scene, const double* component_sigma_t, vbl_vec3 p, double time,
+                                     double cos_theta);
+int vbl_media_scatter_at(const vbl_scene* scene, const double* component_sigma_t, vbl_vec3 p, double time,
+                         double sigma_t, vbl_vec3 travel, double u0, double u1, double u2, vbl_vec3* wi, double* pdf,
+                         vbl_vec3* throughput);
+
 /* sigma_s-weighted mean HG g of the media at a point with per-component sigma_t (0 if none). */
 double vbl_media_mean_g(const vbl_scene* scene, const double* component_sigma_t);
 

@@ -4,9 +4,11 @@
 #include <math.h>
 
 #include "core/error.h"
+#include "media/medium_grids.h"
 
 void vbl_emission_cursor_init(vbl_emission_cursor* cursor, const vbl_scene* scene)
 {
+    cursor->time = 0.0;
     for (int i = 0; i < scene->media_count; ++i) {
         const vbl_medium* m = &scene->media[i];
         if (m->emission_volume) vbl_grid_accessor_init(&cursor->emission[i], m->emission_volume);
@@ -18,7 +20,7 @@ vbl_vec3 vbl_medium_le(const vbl_scene* scene, vbl_emission_cursor* cursor, int 
 {
     const vbl_medium* m = &scene->media[i];
     vbl_vec3 le = vbl_v3(0.0, 0.0, 0.0);
-    vbl_vec3 q = vbl_affine_point(&m->scene_to_volume, p);
+    vbl_vec3 q = vbl_medium_grid_point(scene, i, p, cursor->time);
     if (m->emission_volume) {
         double e = vbl_grid_sample_world(&cursor->emission[i], q, VBL_FILTER_TRILINEAR);
         if (e > 0.0) le = vbl_v3_scale(m->emission_color, m->emission_scale * e);
@@ -41,9 +43,10 @@ vbl_vec3 vbl_media_emission(const vbl_scene* scene, vbl_emission_cursor* cursor,
         double st = component_sigma_t[i];
         if (!m->emissive || !(st > 0.0)) continue;
         vbl_vec3 le = vbl_medium_le(scene, cursor, i, p);
-        sum.x += st * (1.0 - m->albedo.x) * le.x;
-        sum.y += st * (1.0 - m->albedo.y) * le.y;
-        sum.z += st * (1.0 - m->albedo.z) * le.z;
+        const vbl_vec3 a = m->albedo_volume[0] ? vbl_medium_albedo_at(scene, i, p, cursor->time) : m->albedo;
+        sum.x += st * (1.0 - a.x) * le.x;
+        sum.y += st * (1.0 - a.y) * le.y;
+        sum.z += st * (1.0 - a.z) * le.z;
     }
     return sum;
 }
@@ -79,7 +82,8 @@ vbl_result vbl_scene_set_medium_emission(vbl_scene* scene, int index, vbl_volume
     m->temperature_scale = temperature_scale;
     m->temperature_offset = temperature_offset;
     m->blackbody_intensity = blackbody_intensity;
-    int absorbs = m->albedo.x < 1.0 || m->albedo.y < 1.0 || m->albedo.z < 1.0;
+    const vbl_vec3 amin = m->albedo_volume[0] ? m->albedo_min : m->albedo; /* the least albedo anywhere */
+    int absorbs = amin.x < 1.0 || amin.y < 1.0 || amin.z < 1.0;
     m->emissive = absorbs && ((emission && scale > 0.0 && vbl_v3_max_component(color) > 0.0) ||
                               (temperature && blackbody_intensity > 0.0));
     scene->has_emission = 0;

@@ -10,6 +10,7 @@
 typedef struct vbl_emission_cursor {
     vbl_grid_accessor emission[VBL_MAX_MEDIA];
     vbl_grid_accessor temperature[VBL_MAX_MEDIA];
+    double time; /* the path's time (motion blur; 0 after init): grids read advected */
 } vbl_emission_cursor;
 
 void vbl_emission_cursor_init(vbl_emission_cursor* cursor, const vbl_scene* scene);

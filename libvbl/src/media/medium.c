@@ -1,6 +1,7 @@
 /* The medium point query and the sigma_s-weighted HG mixture on it (medium.h). */
 #include "media/medium.h"
 
+#include "media/medium_grids.h"
 #include "sampling/phase_hg.h"
 
 static double vbl_mean3(vbl_vec3 v) { return (v.x + v.y + v.z) * (1.0 / 3.0); }
@@ -36,6 +37,7 @@ double vbl_medium_query(const vbl_scene* scene, const vbl_extinction* extinction
     }
     vbl_medium_point_from_components(scene, comps, out);
     out->sigma_t = sigma_t; /* the field's own sum (bit-identical to what callers used before) */
+    vbl_medium_point_apply_grids(scene, p, cursor->time, out);
     return sigma_t;
 }
 

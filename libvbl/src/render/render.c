@@ -73,6 +73,13 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
             cs.sy = py + vbl_rng_uniform(&rng);
         }
         vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
+        if (ctx->scene->motion && ctx->options.motion_blur) {
+            /* motion blur: the path's time, stratified over the pixel's spp samples of the pass */
+            const vbl_scene* sc = ctx->scene;
+            double u = ((double)s + vbl_rng_uniform(&rng)) / (double)spp;
+            ts->cursor.time = sc->shutter_open + (sc->shutter_close - sc->shutter_open) * u;
+            ts->emission.time = ts->cursor.time;
+        }
         cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
         int surface_hit = 0;
         if (ctx->scene->surfaces) {
@@ -201,6 +208,16 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     if (r) return r;
     if (!out_film || !est) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL argument");
     if ((r = vbl_limits_check_radius(scene, options, est->name))) return r;
+    if (scene->motion && options->motion_blur && strcmp(est->name, "pt") != 0)
+        return vbl_error(VBL_ERROR_UNSUPPORTED,
+                         "%s: the scene has moving media (a velocity grid), whose motion blur only method 'pt' renders so "
+                         "far (not '%s'); render with motion_blur = 0 (--motion-blur 0) for the frame's instant",
+                         scene->path, est->name);
+    if (scene->has_albedo_grids && strcmp(est->name, "pt") != 0 && (strcmp(est->name, "vrl") != 0 || scene->has_surfaces))
+        return vbl_error(VBL_ERROR_UNSUPPORTED,
+                         "%s: the scene has an albedo grid, which only methods 'pt' and 'vrl' (media only) render so far "
+                         "(not '%s')",
+                         scene->path, est->name);
     if (scene->has_emission && !vbl_estimator_renders_emission(est))
         return vbl_error(VBL_ERROR_UNSUPPORTED,
                          "%s: the scene has emissive media, which estimator '%s' does not render (pt, vpl, vrl, vbl "
@@ -214,6 +231,15 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     memset(&ctx, 0, sizeof ctx);
     ctx.scene = scene;
     ctx.extinction = &scene->extinction;
+    vbl_extinction still; /* motion_blur = 0: the static field (no dilated majorants, no advection) */
+    if (scene->motion && !options->motion_blur) {
+        still = scene->extinction;
+        for (int c = 0; c < still.count; ++c) {
+            still.components[c].moving = NULL;
+            memset(&still.components[c].velocity, 0, sizeof still.components[c].velocity);
+        }
+        ctx.extinction = &still;
+    }
     ctx.options = *options;
     ctx.options.size = sizeof(vbl_render_options);
     ctx.options.light_paths = vbl_render_options_light_paths(options); /* 0: the method's default */

@@ -71,7 +71,8 @@ vbl_result vbl_emission_lights_build(vbl_emission_lights* lights, const vbl_scen
         const vbl_volume* v = m->volume;
         const vbl_majorant_grid* g = &v->majorant;
         if (!m->emissive || !g->max_density) continue;
-        double absorb = fmax(1.0 - m->albedo.x, fmax(1.0 - m->albedo.y, 1.0 - m->albedo.z));
+        const vbl_vec3 amin = m->albedo_volume[0] ? m->albedo_min : m->albedo; /* albedo grid: its least value */
+        double absorb = fmax(1.0 - amin.x, fmax(1.0 - amin.y, 1.0 - amin.z));
         double le = vbl_le_bound(m) * absorb * m->density_scale;
         if (!(le > 0.0)) continue;
         const int f = vbl_group_factor(g);

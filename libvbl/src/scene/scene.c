@@ -19,9 +19,14 @@ void vbl_scene_release(vbl_scene* scene)
         if (m->volume) vbl_volume_release(m->volume);
         if (m->emission_volume) vbl_volume_release(m->emission_volume);
         if (m->temperature_volume) vbl_volume_release(m->temperature_volume);
+        for (int a = 0; a < 3; ++a) {
+            if (m->albedo_volume[a]) vbl_volume_release(m->albedo_volume[a]);
+            if (m->velocity.v[a]) vbl_volume_release((vbl_volume*)m->velocity.v[a]);
+        }
         vbl_blackbody_table_free(&m->blackbody);
     }
     vbl_emission_lights_free(&scene->emission_lights);
+    vbl_extinction_free(&scene->extinction);
     vbl_scene_free_surfaces(scene);
     free(scene);
 }

@@ -65,6 +65,15 @@ typedef struct vbl_medium {
     double temperature_scale, temperature_offset, blackbody_intensity;
     vbl_blackbody_table blackbody; /* built when temperature_volume is set */
     int emissive;                  /* some term can emit (and the medium absorbs somewhere) */
+    /* Per-voxel albedo (docs/readme/emission.md "Grids by role"): albedo(x) = albedo * A(x) per
+     * channel, A from a vec3s grid (three component volumes) or a float grid (the same volume
+     * three times); NULL: constant albedo. albedo_min: its smallest value per channel (a bound). */
+    vbl_volume* albedo_volume[3];
+    vbl_vec3 albedo_min;
+    /* Velocity (motion blur, docs/readme/emission.md "Motion blur"): in the file's world units per
+     * second, times velocity.scale; velocity.v[0] NULL: none. The volumes are owned (released with
+     * the scene). */
+    vbl_velocity_field velocity;
 } vbl_medium;
 
 struct vbl_scene {
@@ -87,6 +96,13 @@ struct vbl_scene {
     vbl_emission_lights emission_lights; /* emissive media as light sources (pt's NEE) */
     int emission_nee;          /* 1 (default): pt samples emissive media as lights (MIS with phase/BRDF
                                   sampling); 0: emission only by tracking (tests compare the two) */
+    int has_albedo_grids;      /* some medium has an albedo grid */
+    /* Motion blur: camera.shutter [open, close] in frames at `fps`, here in seconds relative to the
+     * frame; `motion` = some medium has a velocity grid and the shutter is open for a while (set
+     * at load; the render option motion_blur = 0 renders at time 0 instead). */
+    double fps;
+    double shutter_open, shutter_close;
+    int motion;
     /* surfaces (docs/readme/surfaces.md): NULL/0 for media-only scenes, which then never call
      * Embree. Surface i uses materials[i]. */
     vbl_surfaces* surfaces;

@@ -77,7 +77,8 @@ static vbl_result vbl_camera_from_json(const vbl_json_ctx* ctx, const cJSON* obj
 {
     static const char* const keys[] = {"position",     "look_at",       "up",         "fov_deg",
                                        "resolution",   "focal_length",  "sensor_width", "sensor_height",
-                                       "sensor_fit",   "frame_media",   "frames",       NULL};
+                                       "sensor_fit",   "frame_media",   "frames",       "shutter",
+                                       NULL};
     static const char* const key_keys[] = {"position", "look_at", "up", "fov_deg", "focal_length", NULL};
     static const char* const frame_keys[] = {"direction", "margin", NULL};
     vbl_result r;

@@ -28,4 +28,12 @@ vbl_grid_role vbl_grid_role_for_name(const char* grid_name);
 vbl_result vbl_load_role_grid(const char* scene_path, const char* field, vbl_grid_role role, const char* path,
                               const char* grid, vbl_volume** out);
 
+/* Loads a role that takes a vector (albedo: vec3s/vec3d or float; velocity: vec3s/vec3d or
+ * three float grids NAME.x/.y/.z, signed): out[0..2] the x, y, z components (a float albedo
+ * grid: the same volume three times, retained thrice). `grid` NULL: the role's names in
+ * order; for velocity also the triplet "vel.x"/"vel.y"/"vel.z" (or "<grid>.x"... when the named
+ * grid is absent but its triplet is there). Errors as vbl_load_role_grid. */
+vbl_result vbl_load_role_vec3(const char* scene_path, const char* field, vbl_grid_role role, const char* path,
+                              const char* grid, vbl_volume* out[3]);
+
 #endif

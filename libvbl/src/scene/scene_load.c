@@ -16,6 +16,7 @@
 #include "scene/scene_render_block.h"
 #include "media/media_emission.h"
 #include "scene/scene_grids.h"
+#include "scene/scene_motion.h"
 #include "scene/scene_camera.h"
 #include "scene/scene_keyframes.h"
 #include "scene/scene_json.h"
@@ -236,7 +237,7 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
 {
     static const char* const keys[] = {"vdb",       "grid",     "density_scale", "albedo", "phase",
                                        "transform", "emission", "temperature",   "grid_index", "transform_frames",
-                                       NULL};
+                                       "velocity",  NULL};
     static const char* const phase_keys[] = {"type", "g", NULL};
     vbl_result r;
     if (!cJSON_IsObject(obj)) return vbl_json_fail(ctx, "%s must be an object", field);
@@ -252,7 +253,15 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     if (medium->density_scale < 0.0)
         return vbl_json_fail(ctx, "%s.density_scale = %g is negative", field, medium->density_scale);
     medium->albedo = vbl_v3(1.0, 1.0, 1.0);
-    if ((r = vbl_parse_color(ctx, colors, obj, field, "albedo", 0, 0.0, 1.0, &medium->albedo))) return r;
+    const cJSON* albedo_grid = cJSON_GetObjectItemCaseSensitive(obj, "albedo");
+    char albedo_field[512];
+    vbl_json_field(albedo_field, sizeof albedo_field, field, "albedo");
+    if (!cJSON_IsObject(albedo_grid)) {
+        albedo_grid = NULL;
+        if ((r = vbl_parse_color(ctx, colors, obj, field, "albedo", 0, 0.0, 1.0, &medium->albedo))) return r;
+    } else if ((r = vbl_parse_color(ctx, colors, albedo_grid, albedo_field, "scale", 0, 0.0, 1.0, &medium->albedo))) {
+        return r; /* {"grid", "vdb", "scale"}: albedo(x) = scale * A(x), loaded below */
+    }
     medium->g = 0.0;
     const cJSON* phase = NULL;
     char phase_field[512];
@@ -324,7 +333,8 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
         snprintf(inner, sizeof inner, "%s", vbl_last_error_message());
         return vbl_error(r, "%s: %s.vdb = '%s': %s", ctx->path, field, medium->vdb_path, inner);
     }
-    return VBL_SUCCESS;
+    if (albedo_grid && (r = vbl_scene_parse_albedo_grid(ctx, albedo_grid, albedo_field, dir, medium))) return r;
+    return vbl_scene_parse_velocity(ctx, obj, field, dir, medium);
 }
 
 /* A role object's file: its own "vdb" (relative to the scene) or the medium's. */
@@ -411,7 +421,7 @@ static vbl_result vbl_surface_color(const vbl_json_ctx* ctx, const void* colors,
 
 static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl_scene_load_options* options)
 {
-    static const char* const keys[] = {"camera", "cameras", "lights", "media", "render", "color_space", "surfaces", NULL};
+    static const char* const keys[] = {"camera", "cameras", "lights", "media", "render", "color_space", "surfaces", "fps", NULL};
     vbl_json_ctx ctx = {scene->path};
     vbl_result r;
     if (!cJSON_IsObject(root)) return vbl_json_fail(&ctx, "the top level must be an object");
@@ -498,8 +508,9 @@ static vbl_result vbl_scene_parse(vbl_scene* scene, const cJSON* root, const vbl
         r = vbl_extinction_add(&scene->extinction, scene->media[i].volume, scene->media[i].density_scale,
                                &scene->media[i].scene_to_volume);
         if (r) return vbl_json_fail(&ctx, "media[%d]: %s", i, vbl_last_error_message());
+        scene->has_albedo_grids |= scene->media[i].albedo_volume[0] != NULL;
     }
-    return VBL_SUCCESS;
+    return vbl_scene_parse_motion(&ctx, root, scene);
 }
 
 vbl_result vbl_scene_load_ex(const char* path, const vbl_scene_load_options* options, vbl_scene** out_scene)

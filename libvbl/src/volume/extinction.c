@@ -4,6 +4,7 @@
 #include "volume/extinction.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -37,7 +38,65 @@ vbl_result vbl_extinction_add(vbl_extinction* ext, const vbl_volume* volume, dou
 void vbl_extinction_cursor_init(vbl_extinction_cursor* cursor, const vbl_extinction* ext)
 {
     cursor->count = ext->count;
-    for (int c = 0; c < ext->count; ++c) vbl_grid_accessor_init(&cursor->accessors[c], ext->components[c].volume);
+    cursor->time = 0.0;
+    for (int c = 0; c < ext->count; ++c) {
+        vbl_grid_accessor_init(&cursor->accessors[c], ext->components[c].volume);
+        if (ext->components[c].velocity.v[0])
+            for (int a = 0; a < 3; ++a) vbl_grid_accessor_init(&cursor->velocity[c][a], ext->components[c].velocity.v[a]);
+    }
+}
+
+vbl_result vbl_extinction_set_velocity(vbl_extinction* ext, int c, const vbl_velocity_field* velocity, double max_time)
+{
+    if (!ext || c < 0 || c >= ext->count || !velocity || !velocity->v[0])
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_extinction_set_velocity: bad argument");
+    vbl_medium_component* m = &ext->components[c];
+    m->velocity = *velocity;
+    if (m->moving) {
+        vbl_majorant_grid_free(m->moving);
+        free(m->moving);
+        m->moving = NULL;
+    }
+    const vbl_volume* vol = m->volume;
+    if (!vol->majorant.max_density) return VBL_SUCCESS; /* empty: nothing moves */
+    /* world distance r -> index distance per axis: |row a of world_to_index| r */
+    const double r = velocity->max_speed * fabs(max_time);
+    int k[3];
+    for (int a = 0; a < 3; ++a) {
+        double row = 0.0;
+        for (int b = 0; b < 3; ++b) row += vol->world_to_index.m[a][b] * vol->world_to_index.m[a][b];
+        double cells = sqrt(row) * r / (double)vol->majorant.block;
+        if (!(cells < 4096.0))
+            return vbl_error(VBL_ERROR_UNSUPPORTED,
+                             "'%s': motion blur moves the medium by %g world units (%g majorant blocks), too far",
+                             vol->info.file_path, r, cells);
+        k[a] = (int)ceil(cells);
+    }
+    m->moving = calloc(1, sizeof *m->moving);
+    if (!m->moving) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "out of memory for a moving majorant grid");
+    vbl_result res = vbl_majorant_grid_dilate(&vol->majorant, k, m->moving);
+    if (res) {
+        free(m->moving);
+        m->moving = NULL;
+    }
+    return res;
+}
+
+void vbl_extinction_free(vbl_extinction* ext)
+{
+    if (!ext) return;
+    for (int c = 0; c < ext->count; ++c)
+        if (ext->components[c].moving) {
+            vbl_majorant_grid_free(ext->components[c].moving);
+            free(ext->components[c].moving);
+            ext->components[c].moving = NULL;
+        }
+}
+
+/* The majorant grid tracking uses for component m. */
+static const vbl_majorant_grid* vbl_component_majorant(const vbl_medium_component* m)
+{
+    return m->moving ? m->moving : &m->volume->majorant;
 }
 
 uint64_t vbl_extinction_cursor_lookups(const vbl_extinction_cursor* cursor)
@@ -56,6 +115,8 @@ double vbl_extinction_eval(const vbl_extinction* ext, vbl_extinction_cursor* cur
         double s = 0.0;
         if (m->density_scale > 0.0 && m->volume->majorant.max_density) {
             vbl_vec3 p = vbl_affine_point(&m->scene_to_volume, point);
+            if (cursor->time != 0.0 && m->velocity.v[0])
+                p = vbl_velocity_advect(&m->velocity, cursor->velocity[c], p, cursor->time);
             s = m->density_scale * vbl_grid_sample_world(&cursor->accessors[c], p, VBL_FILTER_TRILINEAR);
         }
         if (per_component) per_component[c] = s;
@@ -90,7 +151,8 @@ int vbl_extinction_ray_bounds(const vbl_extinction* ext, vbl_vec3 origin, vbl_ve
         vbl_vec3 o, d;
         vbl_extinction_component_ray(&ext->components[c], origin, direction, &o, &d);
         vbl_majorant_iter it;
-        vbl_majorant_iter_init(&it, ext->components[c].volume, o, d, tmin, tmax);
+        vbl_majorant_iter_init_grid(&it, vbl_component_majorant(&ext->components[c]),
+                                    &ext->components[c].volume->world_to_index, o, d, tmin, tmax);
         if (it.done) continue;
         if (it.t < lo) lo = it.t;
         if (it.t_end > hi) hi = it.t_end;
@@ -128,7 +190,8 @@ void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* e
     for (int c = 0; c < ext->count; ++c) {
         vbl_vec3 o, d;
         vbl_extinction_component_ray(&ext->components[c], origin, direction, &o, &d);
-        vbl_majorant_iter_init(&iter->iters[c], ext->components[c].volume, o, d, tmin, tmax);
+        vbl_majorant_iter_init_grid(&iter->iters[c], vbl_component_majorant(&ext->components[c]),
+                                    &ext->components[c].volume->world_to_index, o, d, tmin, tmax);
         iter->has_pending[c] = 0;
     }
 }

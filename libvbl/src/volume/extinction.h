@@ -5,6 +5,7 @@
 #ifndef VBL_VOLUME_EXTINCTION_H
 #define VBL_VOLUME_EXTINCTION_H
 
+#include "volume/advect.h"
 #include "volume/grid_sample.h"
 #include "volume/majorant_iter.h"
 
@@ -14,6 +15,11 @@ typedef struct vbl_medium_component {
     const vbl_volume* volume;
     double density_scale;        /* sigma_t = density_scale * grid value, per world unit */
     vbl_affine scene_to_volume;  /* scene world -> the volume's own world space */
+    /* Motion blur (vbl_extinction_set_velocity): sampled at x - v(x) t when the cursor's time is
+     * not 0; `moving` is the majorant grid dilated by the largest displacement (NULL: none, the
+     * volume's own grid is used) */
+    vbl_velocity_field velocity;
+    vbl_majorant_grid* moving;
 } vbl_medium_component;
 
 typedef struct vbl_extinction {
@@ -29,10 +35,22 @@ void vbl_extinction_init(vbl_extinction* ext);
 vbl_result vbl_extinction_add(vbl_extinction* ext, const vbl_volume* volume, double density_scale,
                               const vbl_affine* scene_to_volume);
 
-/* Per-thread state: one accessor per component, and a lookup counter. */
+/* Gives component c a velocity field for motion blur over shutter times |t| <= max_time seconds:
+ * builds its dilated majorant grid (each block the max/min over the blocks within the largest
+ * displacement max_speed * max_time, the grid grown by as many blocks), so tracking at any time
+ * in the shutter stays unbiased. Fails with VBL_ERROR_OUT_OF_MEMORY / VBL_ERROR_UNSUPPORTED. */
+vbl_result vbl_extinction_set_velocity(vbl_extinction* ext, int c, const vbl_velocity_field* velocity, double max_time);
+/* Frees what vbl_extinction_set_velocity built (the field stays usable without motion). */
+void vbl_extinction_free(vbl_extinction* ext);
+
+/* Per-thread state: one accessor per component, and a lookup counter. `time` (seconds relative
+ * to the frame, 0 after init) is the time of the path being traced: with it non-zero, components
+ * with a velocity field are sampled advected. */
 typedef struct vbl_extinction_cursor {
     vbl_grid_accessor accessors[VBL_MAX_MEDIA];
     int count;
+    double time;
+    vbl_grid_accessor velocity[VBL_MAX_MEDIA][3];
 } vbl_extinction_cursor;
 
 void vbl_extinction_cursor_init(vbl_extinction_cursor* cursor, const vbl_extinction* ext);

@@ -108,3 +108,88 @@ void vbl_majorant_grid_free(vbl_majorant_grid* grid)
     grid->max_density = NULL;
     grid->min_density = NULL;
 }
+
+/* One axis of the dilation: dst (dims_out) from src (dims_in, offset k along `axis`): each cell the
+ * max (min) over the 2k+1 source cells around it along that axis, cells outside the source being
+ * empty space (0). */
+static void vbl_dilate_axis(const float* src_max, const float* src_min, const int in[3], float* dst_max,
+                            float* dst_min, const int out[3], int axis, int k)
+{
+    const int64_t nx = out[0], ny = out[1], nz = out[2];
+    for (int64_t z = 0; z < nz; ++z)
+        for (int64_t y = 0; y < ny; ++y)
+            for (int64_t x = 0; x < nx; ++x) {
+                int64_t c[3] = {x, y, z};
+                float mx = 0.0f, mn = 0.0f;
+                int first = 1;
+                for (int d = -k; d <= k; ++d) {
+                    int64_t s[3] = {c[0], c[1], c[2]};
+                    s[axis] += d - k; /* source index along axis; other axes already aligned */
+                    float vmax = 0.0f, vmin = 0.0f;
+                    if (s[axis] >= 0 && s[axis] < in[axis]) {
+                        int64_t i = s[0] + (int64_t)in[0] * (s[1] + (int64_t)in[1] * s[2]);
+                        vmax = src_max[i];
+                        vmin = src_min[i];
+                    }
+                    if (first || vmax > mx) mx = vmax;
+                    if (first || vmin < mn) mn = vmin;
+                    first = 0;
+                }
+                int64_t o = x + nx * (y + ny * z);
+                dst_max[o] = mx;
+                dst_min[o] = mn;
+            }
+}
+
+vbl_result vbl_majorant_grid_dilate(const vbl_majorant_grid* src, const int k[3], vbl_majorant_grid* out)
+{
+    memset(out, 0, sizeof *out);
+    out->block = src->block;
+    if (!src->max_density) return VBL_SUCCESS;
+    int64_t total = 1;
+    int dims[3];
+    for (int a = 0; a < 3; ++a) {
+        int64_t d = (int64_t)src->dims[a] + 2 * (int64_t)k[a];
+        int64_t o = (int64_t)src->origin[a] - (int64_t)k[a] * src->block;
+        if (k[a] < 0 || d > INT32_MAX || o < INT32_MIN || total > VBL_MAJORANT_MAX_BLOCKS / d)
+            return vbl_error(VBL_ERROR_UNSUPPORTED, "motion blur: the moving majorant grid would be too large");
+        total *= d;
+        dims[a] = (int)d;
+        out->origin[a] = (int)o;
+    }
+    /* separable: x, then y, then z, each pass growing one axis */
+    int cur[3] = {src->dims[0], src->dims[1], src->dims[2]};
+    const float* in_max = src->max_density;
+    const float* in_min = src->min_density;
+    float *buf_max[2] = {NULL, NULL}, *buf_min[2] = {NULL, NULL};
+    for (int i = 0; i < 2; ++i) {
+        buf_max[i] = malloc((size_t)total * sizeof(float));
+        buf_min[i] = malloc((size_t)total * sizeof(float));
+    }
+    if (!buf_max[0] || !buf_max[1] || !buf_min[0] || !buf_min[1]) {
+        for (int i = 0; i < 2; ++i) {
+            free(buf_max[i]);
+            free(buf_min[i]);
+        }
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "motion blur: moving majorant grid of %lld blocks", (long long)total);
+    }
+    int which = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        int next[3] = {cur[0], cur[1], cur[2]};
+        next[axis] = dims[axis];
+        vbl_dilate_axis(in_max, in_min, cur, buf_max[which], buf_min[which], next, axis, k[axis]);
+        in_max = buf_max[which];
+        in_min = buf_min[which];
+        cur[axis] = next[axis];
+        which ^= 1;
+    }
+    /* the result is in buffer which^1 */
+    out->max_density = buf_max[which ^ 1];
+    out->min_density = buf_min[which ^ 1];
+    free(buf_max[which]);
+    free(buf_min[which]);
+    for (int a = 0; a < 3; ++a) out->dims[a] = dims[a];
+    out->global_max = src->global_max;
+    out->global_min = src->global_min < 0.0 ? src->global_min : 0.0;
+    return VBL_SUCCESS;
+}

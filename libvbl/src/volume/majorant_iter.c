@@ -18,7 +18,12 @@ static double vbl_dda_boundary_t(const vbl_majorant_iter* it, int axis)
 void vbl_majorant_iter_init(vbl_majorant_iter* it, const vbl_volume* volume, vbl_vec3 origin, vbl_vec3 direction,
                             double tmin, double tmax)
 {
-    const vbl_majorant_grid* g = &volume->majorant;
+    vbl_majorant_iter_init_grid(it, &volume->majorant, &volume->world_to_index, origin, direction, tmin, tmax);
+}
+
+void vbl_majorant_iter_init_grid(vbl_majorant_iter* it, const vbl_majorant_grid* g, const vbl_affine* world_to_index,
+                                 vbl_vec3 origin, vbl_vec3 direction, double tmin, double tmax)
+{
     it->grid = g;
     it->done = 1;
     it->t = tmin;
@@ -26,8 +31,8 @@ void vbl_majorant_iter_init(vbl_majorant_iter* it, const vbl_volume* volume, vbl
     if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0 || !g->max_density) return;
     if (!(tmin < tmax)) return; /* zero-length, reversed or NaN interval: no segments */
 
-    vbl_vec3 o = vbl_affine_point(&volume->world_to_index, origin);
-    vbl_vec3 d = vbl_affine_vector(&volume->world_to_index, direction);
+    vbl_vec3 o = vbl_affine_point(world_to_index, origin);
+    vbl_vec3 d = vbl_affine_vector(world_to_index, direction);
     const double inv_block = 1.0 / (double)g->block;
     double oa[3] = {o.x, o.y, o.z}, da[3] = {d.x, d.y, d.z};
     double t0 = tmin, t1 = tmax;

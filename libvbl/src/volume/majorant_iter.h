@@ -26,6 +26,9 @@ typedef struct vbl_majorant_iter {
  * see continuous coverage of non-empty space only when they skip majorant == 0 themselves. */
 void vbl_majorant_iter_init(vbl_majorant_iter* iter, const vbl_volume* volume, vbl_vec3 origin,
                             vbl_vec3 direction, double tmin, double tmax);
+/* The same on any majorant grid (e.g. a dilated copy) placed by `world_to_index`. */
+void vbl_majorant_iter_init_grid(vbl_majorant_iter* iter, const vbl_majorant_grid* grid, const vbl_affine* world_to_index,
+                                 vbl_vec3 origin, vbl_vec3 direction, double tmin, double tmax);
 /* Returns 1 and fills `segment`, or 0 when the ray has left the grid or passed tmax. */
 int vbl_majorant_iter_next(vbl_majorant_iter* iter, vbl_majorant_segment* segment);
 

@@ -44,9 +44,23 @@ vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char*
                                           int grid_index, const vbl_volume_load_options* options,
                                           vbl_volume** out_volume);
 
+/* As vbl_volume_create_from_nanovdb; allow_negative = 1 for signed grids (velocity components),
+ * where only NaN and Inf are bad values. */
+vbl_result vbl_volume_create_signed(void* buffer, size_t size, const char* path, int grid_index,
+                                    const vbl_volume_load_options* options, int allow_negative, vbl_volume** out_volume);
+/* Component `component` (0..2) of a vec3s/vec3d grid as a float volume named "<grid>.x|y|z"
+ * (grid selection by options->grid_name/grid_index, as vbl_volume_load). */
+vbl_result vbl_volume_load_vec3_component(const char* path, const vbl_volume_load_options* options, int component,
+                                          int allow_negative, vbl_volume** out_volume);
+/* vbl_volume_load of a signed float grid (e.g. Houdini's vel.x): negative values allowed. */
+vbl_result vbl_volume_load_signed(const char* path, const vbl_volume_load_options* options, vbl_volume** out_volume);
+
 /* Majorant grid lifecycle (majorant_grid.c). */
 vbl_result vbl_majorant_grid_build(vbl_majorant_grid* grid, const vbl_volume* volume, int block);
 void vbl_majorant_grid_free(vbl_majorant_grid* grid);
+/* `out` = `src` dilated by k[a] blocks along each axis a (grown by as many blocks on each side):
+ * every block the max (min) over the source blocks within k of it, empty space counting as 0. */
+vbl_result vbl_majorant_grid_dilate(const vbl_majorant_grid* src, const int k[3], vbl_majorant_grid* out);
 
 #ifdef __cplusplus
 }

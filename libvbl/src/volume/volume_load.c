@@ -23,6 +23,7 @@
 /* Running statistics of the scan. */
 typedef struct vbl_scan {
     vbl_bad_voxel_policy policy;
+    int allow_negative; /* signed grids (velocity components): only NaN/Inf are bad */
     uint64_t active_voxels;
     double sum, vmin, vmax;
     int bmin[3], bmax[3];
@@ -39,7 +40,7 @@ static float* vbl_value_ptr(void* buffer, pnanovdb_address_t address)
 static float vbl_scan_check(vbl_scan* scan, float* value, int active)
 {
     float v = *value;
-    if (!(v >= 0.0f) || isinf(v)) {
+    if (!(v >= 0.0f || (scan->allow_negative && v < 0.0f)) || isinf(v)) {
         if (isnan(v)) ++scan->bad_nan;
         else if (isinf(v)) ++scan->bad_inf;
         else ++scan->bad_negative;
@@ -239,6 +240,12 @@ static void vbl_volume_destroy(vbl_volume* v)
 vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char* path, int grid_index,
                                           const vbl_volume_load_options* options, vbl_volume** out_volume)
 {
+    return vbl_volume_create_signed(buffer, size, path, grid_index, options, 0, out_volume);
+}
+
+vbl_result vbl_volume_create_signed(void* buffer, size_t size, const char* path, int grid_index,
+                                    const vbl_volume_load_options* options, int allow_negative, vbl_volume** out_volume)
+{
     vbl_volume_load_options defaults = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
     if (!path) path = "(memory)";
     if (!out_volume) {
@@ -279,6 +286,7 @@ vbl_result vbl_volume_create_from_nanovdb(void* buffer, size_t size, const char*
     vbl_scan scan;
     memset(&scan, 0, sizeof scan);
     scan.policy = options->bad_voxels;
+    scan.allow_negative = allow_negative;
     scan.vmin = HUGE_VAL;
     scan.vmax = -HUGE_VAL;
     for (int a = 0; a < 3; ++a) {
@@ -367,6 +375,39 @@ VBL_API vbl_result vbl_volume_load(const char* path, const vbl_volume_load_optio
         return vbl_error(VBL_ERROR_INTERRUPTED, "%s: load cancelled (after reading the file)", path);
     }
     return vbl_volume_create_from_nanovdb(buffer, size, path, file_index, options, out_volume);
+}
+
+vbl_result vbl_volume_load_vec3_component(const char* path, const vbl_volume_load_options* options, int component,
+                                          int allow_negative, vbl_volume** out_volume)
+{
+    vbl_volume_load_options defaults = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+    if (out_volume) *out_volume = NULL;
+    if (!path || !out_volume) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_volume_load_vec3_component: NULL argument");
+    if (!options) options = &defaults;
+    char message[2048];
+    void* buffer = NULL;
+    size_t size = 0;
+    int file_index = -1;
+    vbl_result result = vbl_vdb_read_vec3_component(path, options->grid_name, options->grid_index, component, &buffer,
+                                                    &size, &file_index, message, sizeof message);
+    if (result != VBL_SUCCESS) return vbl_error(result, "%s", message);
+    return vbl_volume_create_signed(buffer, size, path, file_index, options, allow_negative, out_volume);
+}
+
+vbl_result vbl_volume_load_signed(const char* path, const vbl_volume_load_options* options, vbl_volume** out_volume)
+{
+    vbl_volume_load_options defaults = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
+    if (out_volume) *out_volume = NULL;
+    if (!path || !out_volume) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_volume_load_signed: NULL argument");
+    if (!options) options = &defaults;
+    char message[2048];
+    void* buffer = NULL;
+    size_t size = 0;
+    int file_index = -1;
+    vbl_result result = vbl_vdb_read_float_grid(path, options->grid_name, options->grid_index, &buffer, &size, &file_index,
+                                                message, sizeof message);
+    if (result != VBL_SUCCESS) return vbl_error(result, "%s", message);
+    return vbl_volume_create_signed(buffer, size, path, file_index, options, 1, out_volume);
 }
 
 VBL_API void vbl_volume_retain(vbl_volume* volume)

@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "media/media_emission.h"
+#include "media/medium_grids.h"
 #include "sampling/sphere.h"
 #include "volume/volume.h"
 #include "scene/lights.h"
@@ -235,8 +236,8 @@ int vbl_media_sample_emission(const vbl_scene* scene, const vbl_extinction* exti
     const double st = comps[m];
     if (!(st > 0.0)) return 0;
     vbl_vec3 le = vbl_medium_le(scene, emission, m, x);
-    vbl_vec3 e = vbl_v3(st * (1.0 - med->albedo.x) * le.x, st * (1.0 - med->albedo.y) * le.y,
-                        st * (1.0 - med->albedo.z) * le.z);
+    const vbl_vec3 a = med->albedo_volume[0] ? vbl_medium_albedo_at(scene, m, x, emission->time) : med->albedo;
+    vbl_vec3 e = vbl_v3(st * (1.0 - a.x) * le.x, st * (1.0 - a.y) * le.y, st * (1.0 - a.z) * le.z);
     const double emax = vbl_v3_max_component(e);
     if (!(emax > 0.0)) return 0;
     double q = blk->bound > 0.0 ? fmin(1.0, emax / blk->bound) : 1.0;

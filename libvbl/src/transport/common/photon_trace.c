@@ -9,6 +9,7 @@
 #include "transport/common/radius_schedule.h"
 #include "sampling/phase_hg.h"
 #include "media/medium.h"
+#include "media/medium_grids.h"
 #include "transport/common/light_emission.h"
 #include "volume/transmittance_cache.h"
 
@@ -223,6 +224,7 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
         x = vbl_v3_madd(x, d, t);
         const int vertex = k + 1;
         vbl_medium_point_from_components(scene, comps, &mp);
+        vbl_medium_point_apply_grids(scene, x, cursor->time, &mp); /* albedo grids */
         if (st->store_vpls && (M < 0 || vertex <= M - 1)) {
             if (!vbl_grow((void**)&blk->vpls, &blk->vpl_cap, blk->vpl_count + 1, sizeof(vbl_vpl))) {
                 blk->failed = 1;

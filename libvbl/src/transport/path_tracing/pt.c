@@ -28,6 +28,7 @@
 #include "scene/lights.h"
 #include "media/media.h"
 #include "media/medium.h"
+#include "media/medium_grids.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/path_tracing/pt_equiangular.h"
 
@@ -204,6 +205,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
 {
     (void)store;
     const vbl_scene* scene = ctx->scene;
+    /* motion blur: the emitter blocks do not move with the medium, so emission is collected by
+     * tracking only (unbiased; docs/readme/emission.md "Motion blur") */
+    const int emission_nee = scene->emission_nee && !(scene->motion && ctx->options.motion_blur);
     const int max_bounces = ctx->options.max_bounces;
     vbl_vec3 origin = sample->origin, direction = sample->direction, vertex = sample->origin;
     vbl_vec3 beta = vbl_v3(1.0, 1.0, 1.0);
@@ -247,7 +251,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (scene->has_emission) {
             /* after a scattering event with emission NEE on, this strategy's MIS weight */
             double w = 1.0;
-            if (path.events > 0 && scene->emission_nee)
+            if (path.events > 0 && emission_nee)
                 w = vbl_mis_weight(ctx->options.mis, prev_pdf,
                                    vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
             vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
@@ -282,9 +286,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_segment seg = {origin, direction, t_surface};
             vbl_medium_point mp; /* what scatters at x (media/medium.h) */
             vbl_medium_point_from_components(scene, components, &mp);
+            vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
             vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
-            if (scene->has_emission && scene->emission_nee)
+            if (scene->has_emission && emission_nee)
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
@@ -302,7 +307,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
             vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
-            if (scene->has_emission && scene->emission_nee)
+            if (scene->has_emission && emission_nee)
                 vbl_emission_nee_surface(ctx, ts, &hit, wo, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
