@@ -115,6 +115,7 @@ int vbl_medium_free_flight(const vbl_scene* scene, const vbl_extinction* extinct
         return 0;
     vbl_medium_point_from_components(scene, comps, out);
     out->sigma_t = sigma_t; /* the tracker's own sum (what callers divided by before) */
+    vbl_medium_point_apply_grids(scene, vbl_segment_at(segment, *t), cursor->time, out); /* albedo grids */
     return 1;
 }
 

@@ -5,6 +5,7 @@
 
 #include "material/material.h"
 #include "media/media_emission.h"
+#include "media/medium_grids.h"
 #include "scene/lights.h"
 
 static void vbl_add_scaled(vbl_vec3* acc, vbl_vec3 a, vbl_vec3 b, double s)
@@ -96,6 +97,7 @@ void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* 
         vbl_medium_point mp;
         vbl_medium_point_from_components(scene, components, &mp);
         const vbl_vec3 x = vbl_v3_madd(o, d, t);
+        vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
         vbl_vec3* L = &out->L[VBL_CLASS_VOLUME_DIRECT];
         vbl_emission_nee_medium(ctx, ts, x, d, sigma_t, &mp, 0, one, rng, L);
         double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf = 0.0;
