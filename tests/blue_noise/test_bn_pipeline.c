@@ -243,12 +243,70 @@ static void test_prepare(void** state)
     vbl_scene_release(s);
 }
 
+/* vbl_bn_prepare's stop hook (issue #18: a signal ends the render within a second): a hook that
+ * never says stop changes nothing (bit for bit) and is asked in every step; one that says stop at
+ * its k-th call, for k in the placement, the elimination and the photon tracing, ends the call
+ * with VBL_ERROR_INTERRUPTED and *out empty (ASan: nothing leaks). */
+static int g_calls, g_stop_at;
+static int count_or_stop(void* user)
+{
+    (void)user;
+    int k;
+#pragma omp atomic capture
+    k = ++g_calls;
+    return g_stop_at > 0 && k >= g_stop_at;
+}
+
+static void test_prepare_stops(void** state)
+{
+    (void)state;
+    vbl_scene* s = box_scene();
+    vbl_bn_prepare_options o = VBL_BN_PREPARE_DEFAULT;
+    o.placement.candidates = 8000;
+    o.lights = 800;
+    o.photons.paths = 10000;
+    o.elimination.leaf_size = 1000; /* a level of parallel boxes below the root */
+    omp_set_num_threads(1);
+    vbl_bn_prepared a, b;
+    assert_int_equal(vbl_bn_prepare(s, &o, &a), VBL_SUCCESS);
+    o.stop = count_or_stop;
+    g_calls = 0;
+    g_stop_at = -1;
+    assert_int_equal(vbl_bn_prepare(s, &o, &b), VBL_SUCCESS);
+    const int total = g_calls;
+    /* placement: 8000 / 256 calls; rmax: 8000 / 256; boxes and root: gathers and steps / 1024; photons: 10000 / 256 */
+    printf("prepare: the stop hook was asked %d times\n", total);
+    assert_true(total >= 32 + 32 + 40);
+    assert_int_equal(a.light_count, b.light_count);
+    assert_memory_equal(a.lights, b.lights, a.light_count * sizeof *a.lights);
+    assert_memory_equal(a.emission.values, b.emission.values, a.emission.offset[a.light_count] * sizeof(vbl_vec3));
+    assert_memory_equal(a.emission.power, b.emission.power, a.light_count * sizeof(vbl_vec3));
+    vbl_bn_prepared_free(&b);
+    const int stops[] = {1, 20, 40, 64, total};
+    const char* where[] = {"placement", "placement", "elimination", "elimination", "photons"};
+    for (size_t i = 0; i < sizeof stops / sizeof stops[0]; ++i) {
+        g_calls = 0;
+        g_stop_at = stops[i];
+        omp_set_num_threads(1 + (int)(i & 1));
+        assert_int_equal(vbl_bn_prepare(s, &o, &b), VBL_ERROR_INTERRUPTED);
+        if (!strstr(vbl_last_error_message(), where[i]))
+            fail_msg("stop at call %d of %d: '%s' does not name %s", stops[i], total, vbl_last_error_message(), where[i]);
+        assert_null(b.lights);
+        assert_int_equal(b.light_count, 0);
+        assert_null(b.emission.values);
+        vbl_bn_prepared_free(&b);
+    }
+    vbl_bn_prepared_free(&a);
+    vbl_scene_release(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pipeline_box),
         cmocka_unit_test(test_photons_threads_and_adapter),
         cmocka_unit_test(test_prepare),
+        cmocka_unit_test(test_prepare_stops),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

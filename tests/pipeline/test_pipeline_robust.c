@@ -1,7 +1,7 @@
 /* Kept promises of `vbl render` and `vbl merge` (issue 18, #13 item 5), with the real binary:
  * SIGINT ends a render inside a pass and writes a complete, valid file of the complete passes
  * (samples = passes x spp in every pixel: no part of a pass leaked in); a second SIGINT aborts at
- * once and leaves nothing or a complete file; a failed checkpoint write warns and the render goes
+ * once and leaves nothing or a complete file; SIGINT ends the blue-noise VSL preparation too; a failed checkpoint write warns and the render goes
  * on; `vbl merge` checks vbl:passes against vbl:pass_range and the samples, sums in 64 bits, and
  * accepts a part whose oiio:ColorSpace another tool dropped. No assertion on time. */
 #define _POSIX_C_SOURCE 200809L
@@ -131,17 +131,12 @@ static void test_sigint_mid_pass(void** state)
     remove(out_copy);
 }
 
-/* Two SIGINTs during a phase that does not poll the cancel flag (the blue-noise VSL preparation
- * of 40000 lights: seconds, before the first pass): the second signal must end the process at
- * once (exit 5, no file, and no "done" event, which only the first-signal path writes, after the
- * preparation). With a second signal that only sets the flag again the render logs "done" when the
- * preparation ends, so this fails. The first-signal path on its own is test_sigint_mid_pass. */
-static void test_second_sigint_aborts(void** state)
+/* Starts `vbl render` of the smoky room with the blue-noise VSL preparation of `lights` lights
+ * (vbl_bn_prepare, before the first pass: 20000 lights on one thread take well over 10 s) and
+ * waits 300 ms after its "start" event, so the preparation is running. */
+static pid_t start_bn_prepare(const char* out, const char* log, const char* lights)
 {
-    (void)state;
-    char out[4096], log[4096], room[1024], cloud[4096];
-    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "twice.exr"));
-    snprintf(log, sizeof log, "%s", ct_path(pt_dir, "twice.log"));
+    char room[1024], cloud[4096], saved[2048];
     const char* src = getenv("VBL_SOURCE_DIR");
     const char* bin = getenv("VBL_BINARY_DIR");
     assert_non_null(src);
@@ -149,19 +144,67 @@ static void test_second_sigint_aborts(void** state)
     snprintf(room, sizeof room, "%s/samples/smoky_room.json", src);
     snprintf(cloud, sizeof cloud, "%s/samples/cloud.vdb", bin);
     const char* const extra[] = {"--vdb", cloud, "--method", "vpl", "--vsl-placement", "blue_noise",
-                                 "--vsl-lights", "40000", "--passes", "1", "--spp", "1",
+                                 "--vsl-lights", lights, "--passes", "1", "--spp", "1",
                                  "--resolution", "32x24", NULL};
-    char saved[2048];
     snprintf(saved, sizeof saved, "%s", pt_scene);
     snprintf(pt_scene, sizeof pt_scene, "%s", room);
     pid_t pid = start_render(out, log, extra);
     snprintf(pt_scene, sizeof pt_scene, "%s", saved);
     wait_for(pid, log, "\"event\":\"start\"", 1);
     pt_sleep_ms(300);
+    return pid;
+}
+
+/* SIGINT during the blue-noise VSL preparation (issue #18: signals end a render within a
+ * second): the preparation asks the cancel flag every few hundred sub-paths, samples or photon
+ * paths, so the process ends with exit 5, no file (no pass completed) and the first-signal path's
+ * "done" event. Not an assertion on speed: the wait is 5 s against a preparation of well over
+ * 10 s, which a preparation that ignored the flag would run to its end (checked: without the stop
+ * hook in vbl_surface_gather_blue_noise_begin this fails). */
+static void test_sigint_stops_bn_prepare(void** state)
+{
+    (void)state;
+    char out[4096], log[4096];
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "bn_prepare.exr"));
+    snprintf(log, sizeof log, "%s", ct_path(pt_dir, "bn_prepare.log"));
+    pid_t pid = start_bn_prepare(out, log, "20000");
     kill(pid, SIGINT);
-    pt_sleep_ms(200); /* two pending SIGINTs would merge into one */
+    int status = 0;
+    for (int waited = 0; waitpid(pid, &status, WNOHANG) != pid; waited += 2) {
+        if (waited > 5000) {
+            kill(pid, SIGKILL);
+            waitpid(pid, NULL, 0);
+            fail_msg("vbl render still preparing blue-noise lights 5 s after SIGINT");
+        }
+        pt_sleep_ms(2);
+    }
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 5);
+    assert_int_equal(count_in_file(log, "\"event\":\"done\""), 1);
+    assert_true(access(out, F_OK) != 0);
+}
+
+/* A second signal ends the process at once, from its handler (exit 5, no file, and no "done"
+ * event, which only the first-signal path writes). The process is held with SIGSTOP while SIGINT
+ * and SIGTERM (two different signals: two SIGINTs pending at once merge into one) are queued, so
+ * both handlers run back to back on SIGCONT, before the render can notice the first and end.
+ * With a second signal that only sets the flag again, the render ends through the first-signal
+ * path and logs "done", so this fails (checked by removing the _exit in plugins/cli). */
+static void test_second_sigint_aborts(void** state)
+{
+    (void)state;
+    char out[4096], log[4096];
+    snprintf(out, sizeof out, "%s", ct_path(pt_dir, "twice.exr"));
+    snprintf(log, sizeof log, "%s", ct_path(pt_dir, "twice.log"));
+    pid_t pid = start_bn_prepare(out, log, "20000");
+    int status = 0;
+    assert_int_equal(kill(pid, SIGSTOP), 0);
+    assert_int_equal(waitpid(pid, &status, WUNTRACED), pid);
+    assert_true(WIFSTOPPED(status));
     kill(pid, SIGINT);
-    int status = wait_exit(pid);
+    kill(pid, SIGTERM);
+    kill(pid, SIGCONT);
+    status = wait_exit(pid);
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 5);
     assert_int_equal(count_in_file(log, "\"event\":\"done\""), 0);
@@ -321,6 +364,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sigint_mid_pass),
+        cmocka_unit_test(test_sigint_stops_bn_prepare),
         cmocka_unit_test(test_second_sigint_aborts),
         cmocka_unit_test(test_failed_checkpoint_continues),
         cmocka_unit_test(test_merge_verifies_pass_counts),

@@ -338,6 +338,8 @@ static vbl_vec3 vbl_volume_from_blue_noise(const vbl_render_context* ctx, vbl_th
     return vbl_bn_shade(ctx, ts, gs, sample, &sp, rng, 0);
 }
 
+static int vbl_bn_render_stop(void* user) { return vbl_render_stop_requested((const vbl_render_context*)user); }
+
 vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vbl_surface_gather_settings* gs)
 {
     const vbl_scene* scene = ctx->scene;
@@ -365,6 +367,8 @@ vbl_result vbl_surface_gather_blue_noise_begin(const vbl_render_context* ctx, vb
     po.photons.max_bounce = M >= 0 ? M - 2 : -1;
     po.photons.extinction = ctx->extinction;
     po.photons.use_global_majorant = ctx->tracking.use_global_majorant;
+    po.stop = vbl_bn_render_stop; /* cancel, time limit: the driver drops the pass (issue #18) */
+    po.stop_user = (void*)ctx;
     vbl_bn_prepared* bn = calloc(1, sizeof *bn);
     if (!bn) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (blue-noise lights)", scene->path);
     vbl_result r = vbl_bn_prepare(scene, &po, bn);

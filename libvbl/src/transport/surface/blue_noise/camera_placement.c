@@ -100,8 +100,25 @@ vbl_result vbl_bn_place_candidates(const vbl_scene* scene, const vbl_bn_placemen
         free(kind);
         return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise placement: cannot allocate %zu candidates", M);
     }
+    int stopped = 0; /* o->stop said stop: the remaining sub-paths are skipped */
 #pragma omp parallel for schedule(dynamic, 256)
-    for (long long k = 0; k < (long long)M; ++k) kind[k] = (unsigned char)trace_one(scene, o, (size_t)k, &slots[k]);
+    for (long long k = 0; k < (long long)M; ++k) {
+        int s;
+#pragma omp atomic read
+        s = stopped;
+        if (s) continue;
+        if ((k & 255) == 0 && o->stop && o->stop(o->stop_user)) {
+#pragma omp atomic write
+            stopped = 1;
+            continue;
+        }
+        kind[k] = (unsigned char)trace_one(scene, o, (size_t)k, &slots[k]);
+    }
+    if (stopped) {
+        free(slots);
+        free(kind);
+        return vbl_error(VBL_ERROR_INTERRUPTED, "blue noise placement: stopped (cancel or time limit)");
+    }
     vbl_bn_placement_stats s;
     memset(&s, 0, sizeof s);
     s.traced = M;

@@ -34,9 +34,12 @@ typedef struct vbl_bn_placement_options {
     int max_specular_depth; /* extensions through highly specular bounces */
     double phong_exponent;  /* Phong exponent at or above which a material is highly specular */
     double ggx_roughness;   /* GGX roughness at or below which a material is highly specular */
+    int (*stop)(void* user); /* may be NULL; asked every few hundred sub-paths: non-zero ends the step
+                                with VBL_ERROR_INTERRUPTED (cancel, time limit; issue #18) */
+    void* stop_user;
 } vbl_bn_placement_options;
 
-#define VBL_BN_PLACEMENT_DEFAULT {sizeof(vbl_bn_placement_options), 1, 100000, 4, 200.0, 0.1}
+#define VBL_BN_PLACEMENT_DEFAULT {sizeof(vbl_bn_placement_options), 1, 100000, 4, 200.0, 0.1, NULL, NULL}
 
 typedef struct vbl_bn_candidate {
     vbl_vec3 position; /* y */

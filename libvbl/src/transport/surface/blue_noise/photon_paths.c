@@ -130,6 +130,7 @@ vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_opti
     path_hits* ph = (path_hits*)calloc(chunk, sizeof(path_hits));
     if (!ph) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "blue noise photons: cannot allocate a chunk of %zu paths", chunk);
     vbl_result rc = VBL_SUCCESS;
+    int stopped = 0; /* o->stop said stop: the chunk's remaining paths are skipped */
     for (size_t start = 0; start < o->paths && rc == VBL_SUCCESS; start += chunk) {
         size_t n = o->paths - start < chunk ? o->paths - start : chunk;
 #pragma omp parallel for schedule(dynamic, 64)
@@ -138,7 +139,21 @@ vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_opti
             p->count = 0;
             p->failed = 0;
             p->emitted = vbl_v3(0, 0, 0);
+            int s;
+#pragma omp atomic read
+            s = stopped;
+            if (s) continue;
+            if ((i & 255) == 0 && o->stop && o->stop(o->stop_user)) {
+#pragma omp atomic write
+                stopped = 1;
+                continue;
+            }
             trace_path(&sh, start + (size_t)i, p);
+        }
+        if (stopped) {
+            rc = vbl_error(VBL_ERROR_INTERRUPTED, "blue noise photons: stopped (cancel or time limit) after %zu of %zu paths",
+                           start, o->paths);
+            break;
         }
         for (size_t i = 0; i < n && rc == VBL_SUCCESS; ++i) {
             if (ph[i].failed) {

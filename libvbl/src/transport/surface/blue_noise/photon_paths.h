@@ -39,9 +39,12 @@ typedef struct vbl_bn_photon_options {
     size_t chunk;     /* paths traced in parallel before their hits are split */
     const vbl_extinction* extinction; /* the scene's media, NULL: ignore media */
     int use_global_majorant;          /* free flights with the global majorant (no majorant grid) */
+    int (*stop)(void* user); /* may be NULL; asked every few hundred paths: non-zero ends the step
+                                with VBL_ERROR_INTERRUPTED (cancel, time limit; issue #18) */
+    void* stop_user;
 } vbl_bn_photon_options;
 
-#define VBL_BN_PHOTON_DEFAULT {sizeof(vbl_bn_photon_options), 1, 1000000, -1, 16384, NULL, 0}
+#define VBL_BN_PHOTON_DEFAULT {sizeof(vbl_bn_photon_options), 1, 1000000, -1, 16384, NULL, 0, NULL, NULL}
 
 typedef struct vbl_bn_photon_stats {
     size_t paths;

@@ -23,9 +23,17 @@ vbl_result vbl_bn_prepare(const vbl_scene* scene, const vbl_bn_prepare_options* 
     const vbl_bn_prepare_options* o = options ? options : &defaults;
     if (o->size < sizeof(vbl_bn_prepare_options))
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "blue noise prepare: options.size = %zu is too small", o->size);
+    /* o->stop reaches every long step (issue #18: a signal ends the render within a second) */
+    vbl_bn_placement_options placement = o->placement;
+    vbl_bn_elimination_options elimination = o->elimination;
+    vbl_bn_photon_options photons = o->photons;
+    if (o->stop) {
+        placement.stop = elimination.stop = photons.stop = o->stop;
+        placement.stop_user = elimination.stop_user = photons.stop_user = o->stop_user;
+    }
     vbl_bn_candidate* c = NULL;
     size_t nc = 0;
-    vbl_result rc = vbl_bn_place_candidates(scene, &o->placement, &c, &nc, &out->placement);
+    vbl_result rc = vbl_bn_place_candidates(scene, &placement, &c, &nc, &out->placement);
     if (rc != VBL_SUCCESS) return rc;
     if (nc == 0) {
         free(c);
@@ -33,12 +41,12 @@ vbl_result vbl_bn_prepare(const vbl_scene* scene, const vbl_bn_prepare_options* 
                          "blue noise prepare: scene '%s': no camera sub-path reached a second surface", scene->path);
     }
     rc = vbl_bn_lights_from_candidates(c, nc, o->lights, o->alpha, scene->materials, (size_t)scene->surface_count,
-                                       &o->elimination, &out->lights, &out->light_count);
+                                       &elimination, &out->lights, &out->light_count);
     free(c);
     if (rc != VBL_SUCCESS) goto fail;
     rc = vbl_bn_field_init(&out->field, out->lights, out->light_count, o->resolution);
     if (rc != VBL_SUCCESS) goto fail;
-    rc = vbl_bn_trace_photons(scene, &o->photons, &out->field, &out->photons);
+    rc = vbl_bn_trace_photons(scene, &photons, &out->field, &out->photons);
     if (rc != VBL_SUCCESS) goto fail;
     rc = vbl_bn_emission_from_field(&out->field, scene->materials, (size_t)scene->surface_count, &out->emission);
     if (rc != VBL_SUCCESS) goto fail;

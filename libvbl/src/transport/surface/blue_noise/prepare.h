@@ -21,11 +21,15 @@ typedef struct vbl_bn_prepare_options {
     vbl_bn_elimination_options elimination;
     vbl_bn_photon_options photons;
     int resolution;                         /* octahedral map */
+    int (*stop)(void* user); /* may be NULL (never stop); copied into the placement, elimination and
+                                photon steps' hooks: non-zero ends vbl_bn_prepare with
+                                VBL_ERROR_INTERRUPTED and *out empty (cancel, time limit) */
+    void* stop_user;
 } vbl_bn_prepare_options;
 
 #define VBL_BN_PREPARE_DEFAULT                                                                       \
     {sizeof(vbl_bn_prepare_options), VBL_BN_PLACEMENT_DEFAULT, 10000, VBL_BN_VSL_ALPHA_DEFAULT,      \
-     VBL_BN_ELIMINATION_DEFAULT, VBL_BN_PHOTON_DEFAULT, VBL_BN_OCT_RESOLUTION_DEFAULT}
+     VBL_BN_ELIMINATION_DEFAULT, VBL_BN_PHOTON_DEFAULT, VBL_BN_OCT_RESOLUTION_DEFAULT, NULL, NULL}
 
 typedef struct vbl_bn_prepared {
     vbl_bn_light* lights;
@@ -37,7 +41,9 @@ typedef struct vbl_bn_prepared {
     vbl_bn_photon_stats photons;
 } vbl_bn_prepared;
 
-/* Errors from the steps (each names its field); on error *out is left empty (safe to free). */
+/* Errors from the steps (each names its field); on error *out is left empty (safe to free).
+ * options->stop saying stop (asked every few hundred sub-paths, samples or paths) gives
+ * VBL_ERROR_INTERRUPTED; not stopped, the result is the same as without a hook. */
 vbl_result vbl_bn_prepare(const vbl_scene* scene, const vbl_bn_prepare_options* options, vbl_bn_prepared* out);
 void vbl_bn_prepared_free(vbl_bn_prepared* p);
 

@@ -65,7 +65,7 @@ vbl_result vbl_bn_compute_rmax(const vbl_vec3* points, size_t M, size_t N, const
     if (rc != VBL_SUCCESS) return rc;
     /* eq 2 with A_i = pi d_i^2: r_i = d_i sqrt(M pi / (2 sqrt(3) N m)) */
     const double scale = sqrt((double)M * VBL_PI / (two_sqrt3 * (double)N * (double)m));
-    int failed = 0;
+    int failed = 0, stopped = 0;
 #pragma omp parallel
     {
         size_t* idx = (size_t*)malloc(m * sizeof(size_t));
@@ -77,6 +77,15 @@ vbl_result vbl_bn_compute_rmax(const vbl_vec3* points, size_t M, size_t N, const
 #pragma omp for schedule(dynamic, 256)
         for (long long i = 0; i < (long long)M; ++i) {
             if (!idx || !d2) continue;
+            int s;
+#pragma omp atomic read
+            s = stopped;
+            if (s) continue;
+            if ((i & 255) == 0 && o->stop && o->stop(o->stop_user)) {
+#pragma omp atomic write
+                stopped = 1;
+                continue;
+            }
             size_t found = vbl_bn_kdtree_nearest(&tree, points[i], m, (size_t)i, idx, d2);
             double d = found ? sqrt(d2[found - 1]) : 0.0;
             r_max[i] = d * scale;
@@ -86,6 +95,7 @@ vbl_result vbl_bn_compute_rmax(const vbl_vec3* points, size_t M, size_t N, const
     }
     vbl_bn_kdtree_free(&tree);
     if (failed) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "sample elimination: cannot allocate query buffers");
+    if (stopped) return vbl_error(VBL_ERROR_INTERRUPTED, "sample elimination: stopped (cancel or time limit)");
     double smallest = INFINITY;
     for (size_t i = 0; i < M; ++i)
         if (r_max[i] > 0.0 && r_max[i] < smallest) smallest = r_max[i];
@@ -163,10 +173,18 @@ static void heap_down(heap* hp, size_t k)
     }
 }
 
-/* Eliminates k of the alive members (global indices) of one box. Returns 0, or -1 when out of memory. */
-static int eliminate_box(const vbl_vec3* points, const double* r_max, unsigned char* alive, const size_t* members,
-                         size_t count, size_t k, double beta)
+/* o->stop said stop (asked every 1024 gathers and eliminations). */
+static int box_stop(const vbl_bn_elimination_options* o, size_t step)
 {
+    return (step & 1023) == 1023 && o->stop && o->stop(o->stop_user);
+}
+
+/* Eliminates k of the alive members (global indices) of one box. Returns 0, -1 when out of
+ * memory, 1 when o->stop said stop (alive then holds a partial elimination: the caller fails). */
+static int eliminate_box(const vbl_vec3* points, const double* r_max, unsigned char* alive, const size_t* members,
+                         size_t count, size_t k, const vbl_bn_elimination_options* o)
+{
+    const double beta = o->weight_exponent;
     if (k == 0) return 0;
     int status = -1;
     size_t n = 0;
@@ -202,6 +220,10 @@ static int eliminate_box(const vbl_vec3* points, const double* r_max, unsigned c
         c.i = i;
         vbl_bn_kdtree_within(&tree, p[i], 2.0 * r[i], gather_visit, &c);
         if (c.oom) goto done;
+        if (box_stop(o, i)) {
+            status = 1;
+            goto done;
+        }
     }
     /* symmetric adjacency (CSR) in edge order: deterministic */
     for (size_t e = 0; e < c.count; ++e) {
@@ -232,6 +254,10 @@ static int eliminate_box(const vbl_vec3* points, const double* r_max, unsigned c
     }
     for (size_t i = n / 2; i-- > 0;) heap_down(&hp, i);
     for (size_t step = 0; step < k; ++step) {
+        if (box_stop(o, step)) {
+            status = 1;
+            goto done;
+        }
         size_t top = hh[0];
         hh[0] = hh[--hp.n];
         pos[hh[0]] = 0;
@@ -332,34 +358,37 @@ vbl_result vbl_bn_eliminate_with_rmax(const vbl_vec3* points, size_t M, size_t N
     size_t before_root = 0;
     int failed = 0;
     size_t span = 1; /* leaves per box at this level */
-    for (int level = 0; level < levels; ++level, span *= 8) {
+    for (int level = 0; level < levels && !failed; ++level, span *= 8) {
         long long boxes = (long long)(leaves / span);
         size_t removed = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : removed)
         for (long long b = 0; b < boxes; ++b) {
+            int f;
+#pragma omp atomic read
+            f = failed;
+            if (f) continue;
             size_t lo = bounds[(size_t)b * span], hi = bounds[((size_t)b + 1) * span];
             size_t alive_b = 0;
             for (size_t i = lo; i < hi; ++i) alive_b += alive[order[i]];
             double share = (double)N * (double)(hi - lo) / (double)M;
             double excess = (double)alive_b - share;
             size_t k = excess > 0.0 ? (size_t)floor(o->partial * excess) : 0;
-            if (eliminate_box(points, r, alive, order + lo, hi - lo, k, o->weight_exponent) != 0) {
+            int s = eliminate_box(points, r, alive, order + lo, hi - lo, k, o);
+            if (s != 0) {
 #pragma omp atomic write
-                failed = 1;
+                failed = s; /* -1: out of memory, 1: stopped */
             } else {
                 removed += k;
             }
         }
         before_root += removed;
     }
-    if (failed) {
-        rc = vbl_error(VBL_ERROR_OUT_OF_MEMORY, "sample elimination: out of memory in a box");
-        goto done;
-    }
     size_t alive_n = 0;
-    for (size_t i = 0; i < M; ++i) alive_n += alive[i];
-    if (eliminate_box(points, r, alive, order, M, alive_n - N, o->weight_exponent) != 0) {
-        rc = vbl_error(VBL_ERROR_OUT_OF_MEMORY, "sample elimination: out of memory at the root box");
+    for (size_t i = 0; i < M && !failed; ++i) alive_n += alive[i];
+    if (!failed) failed = eliminate_box(points, r, alive, order, M, alive_n - N, o);
+    if (failed) {
+        rc = failed > 0 ? vbl_error(VBL_ERROR_INTERRUPTED, "sample elimination: stopped (cancel or time limit)")
+                        : vbl_error(VBL_ERROR_OUT_OF_MEMORY, "sample elimination: out of memory in a box");
         goto done;
     }
     size_t out = 0;

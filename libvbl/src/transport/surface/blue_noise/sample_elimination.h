@@ -33,9 +33,12 @@ typedef struct vbl_bn_elimination_options {
     double partial;         /* fraction of a box's excess eliminated before its parent, in [0, 1] */
     size_t leaf_size;       /* smallest leaf box of the parallel scheme; 0: sequential (one box) */
     double uniform_area;    /* > 0: uniform elimination, eq 1 with this area; 0: adaptive (eq 2) */
+    int (*stop)(void* user); /* may be NULL; asked every few hundred samples: non-zero ends the step
+                                with VBL_ERROR_INTERRUPTED (cancel, time limit; issue #18) */
+    void* stop_user;
 } vbl_bn_elimination_options;
 
-#define VBL_BN_ELIMINATION_DEFAULT {sizeof(vbl_bn_elimination_options), 32, 8.0, 0.8, 4096, 0.0}
+#define VBL_BN_ELIMINATION_DEFAULT {sizeof(vbl_bn_elimination_options), 32, 8.0, 0.8, 4096, 0.0, NULL, NULL}
 
 typedef struct vbl_bn_elimination_stats {
     int levels;          /* 8-way levels below the root (0: sequential) */
