@@ -41,6 +41,23 @@ vbl_grid_role vbl_grid_role_for_name(const char* grid_name)
     return VBL_ROLE_NONE;
 }
 
+/* VBL_ERROR_GRID_NOT_FOUND for a role whose grid the file lacks: the names tried (then `also`) and
+ * the file's grids with their types. */
+static vbl_result vbl_role_grid_missing(const char* scene_path, const char* field, vbl_grid_role role,
+                                        const char* path, const vbl_grid_description* grids, size_t count,
+                                        const char* also)
+{
+    char tried[256] = "", listed[1024] = "";
+    for (const char* const* n = vbl_grid_role_names(role); *n; ++n)
+        snprintf(tried + strlen(tried), sizeof tried - strlen(tried), "%s'%s'", tried[0] ? ", " : "", *n);
+    for (size_t i = 0; i < count; ++i)
+        snprintf(listed + strlen(listed), sizeof listed - strlen(listed), "%s'%s' %s", i ? ", " : "",
+                 grids[i].name, grids[i].type);
+    return vbl_error(VBL_ERROR_GRID_NOT_FOUND,
+                     "%s: %s: '%s' has no %s grid (looked for %s%s; name one with \"grid\"); grids in file: %s",
+                     scene_path, field, path, vbl_grid_role_name(role), tried, also, count ? listed : "none");
+}
+
 vbl_result vbl_load_role_grid(const char* scene_path, const char* field, vbl_grid_role role, const char* path,
                               const char* grid, vbl_volume** out)
 {
@@ -62,16 +79,9 @@ vbl_result vbl_load_role_grid(const char* scene_path, const char* field, vbl_gri
                     break;
                 }
     if (!pick) {
-        char tried[256] = "", listed[1024] = "";
-        for (const char* const* n = vbl_grid_role_names(role); *n; ++n)
-            snprintf(tried + strlen(tried), sizeof tried - strlen(tried), "%s'%s'", tried[0] ? ", " : "", *n);
-        for (size_t i = 0; i < count; ++i)
-            snprintf(listed + strlen(listed), sizeof listed - strlen(listed), "%s'%s' %s", i ? ", " : "",
-                     grids[i].name, grids[i].type);
+        r = vbl_role_grid_missing(scene_path, field, role, path, grids, count, "");
         vbl_grid_descriptions_free(grids);
-        return vbl_error(VBL_ERROR_GRID_NOT_FOUND,
-                         "%s: %s: '%s' has no %s grid (looked for %s; name one with \"grid\"); grids in file: %s",
-                         scene_path, field, path, vbl_grid_role_name(role), tried, count ? listed : "none");
+        return r;
     }
     vbl_grid_descriptions_free(grids);
     vbl_volume_load_options load = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;
@@ -152,17 +162,10 @@ vbl_result vbl_load_role_vec3(const char* scene_path, const char* field, vbl_gri
         }
     }
     if (!pick[0]) {
-        char tried[256] = "", listed[1024] = "";
-        for (const char* const* n = vbl_grid_role_names(role); *n; ++n)
-            snprintf(tried + strlen(tried), sizeof tried - strlen(tried), "%s'%s'", tried[0] ? ", " : "", *n);
-        for (size_t i = 0; i < count; ++i)
-            snprintf(listed + strlen(listed), sizeof listed - strlen(listed), "%s'%s' %s", i ? ", " : "",
-                     grids[i].name, grids[i].type);
+        r = vbl_role_grid_missing(scene_path, field, role, path, grids, count,
+                                  velocity ? " as vec3s, or float vel.x/vel.y/vel.z" : "");
         vbl_grid_descriptions_free(grids);
-        return vbl_error(VBL_ERROR_GRID_NOT_FOUND,
-                         "%s: %s: '%s' has no %s grid (looked for %s%s; name one with \"grid\"); grids in file: %s",
-                         scene_path, field, path, vbl_grid_role_name(role), tried,
-                         velocity ? " as vec3s, or float vel.x/vel.y/vel.z" : "", count ? listed : "none");
+        return r;
     }
     const vbl_grid_description* d = triplet ? NULL : vbl_find_grid(grids, count, pick);
     const int is_float = d && d->is_float;

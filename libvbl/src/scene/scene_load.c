@@ -337,19 +337,6 @@ static vbl_result vbl_parse_medium(const vbl_json_ctx* ctx, const vbl_scene_colo
     return vbl_scene_parse_velocity(ctx, obj, field, dir, medium);
 }
 
-/* A role object's file: its own "vdb" (relative to the scene) or the medium's. */
-static vbl_result vbl_role_file(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
-                                const char* medium_path, char* out, size_t size)
-{
-    const char* vdb = NULL;
-    vbl_result r = vbl_json_string(ctx, obj, field, "vdb", 0, &vdb);
-    if (r) return r;
-    if (!vdb) snprintf(out, size, "%s", medium_path);
-    else if (vdb[0] == '/') snprintf(out, size, "%s", vdb);
-    else snprintf(out, size, "%s%s", dir, vdb);
-    return VBL_SUCCESS;
-}
-
 /* The emission roles of medium `index` (docs/readme/emission.md): "emission" {grid, vdb, color,
  * scale} and "temperature" {grid, vdb, scale, offset, blackbody_intensity, normalization}. */
 static vbl_result vbl_parse_medium_emission(const vbl_json_ctx* ctx, const vbl_scene_colors* colors, const cJSON* obj,
@@ -381,7 +368,7 @@ static vbl_result vbl_parse_medium_emission(const vbl_json_ctx* ctx, const vbl_s
             r = vbl_json_fail(ctx, "%s.scale = %g is negative", ef, scale);
             goto done;
         }
-        if ((r = vbl_role_file(ctx, em, ef, dir, medium_path, path, sizeof path))) goto done;
+        if ((r = vbl_scene_role_file(ctx, em, ef, dir, medium_path, path, sizeof path))) goto done;
         if ((r = vbl_load_role_grid(ctx->path, ef, VBL_ROLE_EMISSION, path, grid, &emission))) goto done;
     }
     if (te) {
@@ -401,7 +388,7 @@ static vbl_result vbl_parse_medium_emission(const vbl_json_ctx* ctx, const vbl_s
             r = vbl_json_fail(ctx, "%s.normalization = \"%s\" is not \"peak\" or \"luminance\"", tf, normalization);
             goto done;
         }
-        if ((r = vbl_role_file(ctx, te, tf, dir, medium_path, path, sizeof path))) goto done;
+        if ((r = vbl_scene_role_file(ctx, te, tf, dir, medium_path, path, sizeof path))) goto done;
         if ((r = vbl_load_role_grid(ctx->path, tf, VBL_ROLE_TEMPERATURE, path, grid, &temperature))) goto done;
     }
     r = vbl_scene_set_medium_emission(scene, index, emission, color, scale, temperature, t_scale, t_offset, intensity,

@@ -8,9 +8,8 @@
 #include "core/error.h"
 #include "scene/scene_grids.h"
 
-/* A role object's file: its own "vdb" (relative to the scene's folder) or the medium's. */
-static vbl_result vbl_motion_role_file(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
-                                       const char* medium_path, char* out, size_t size)
+vbl_result vbl_scene_role_file(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
+                               const char* medium_path, char* out, size_t size)
 {
     const char* vdb = NULL;
     vbl_result r = vbl_json_string(ctx, obj, field, "vdb", 0, &vdb);
@@ -35,7 +34,7 @@ vbl_result vbl_scene_parse_albedo_grid(const vbl_json_ctx* ctx, const cJSON* alb
     const char* grid = NULL;
     char path[1024];
     if ((r = vbl_json_string(ctx, albedo, field, "grid", 0, &grid))) return r;
-    if ((r = vbl_motion_role_file(ctx, albedo, field, dir, medium->vdb_path, path, sizeof path))) return r;
+    if ((r = vbl_scene_role_file(ctx, albedo, field, dir, medium->vdb_path, path, sizeof path))) return r;
     vbl_volume* a[3];
     if ((r = vbl_load_role_vec3(ctx->path, field, VBL_ROLE_ALBEDO, path, grid, a))) return r;
     for (int c = 0; c < 3; ++c) medium->albedo_volume[c] = a[c];
@@ -71,7 +70,7 @@ vbl_result vbl_scene_parse_velocity(const vbl_json_ctx* ctx, const cJSON* obj, c
     if ((r = vbl_json_string(ctx, vel, vf, "grid", 0, &grid))) return r;
     if ((r = vbl_json_number(ctx, vel, vf, "scale", 0, &scale))) return r;
     if (!isfinite(scale)) return vbl_json_fail(ctx, "%s.scale = %g is not finite", vf, scale);
-    if ((r = vbl_motion_role_file(ctx, vel, vf, dir, medium->vdb_path, path, sizeof path))) return r;
+    if ((r = vbl_scene_role_file(ctx, vel, vf, dir, medium->vdb_path, path, sizeof path))) return r;
     vbl_volume* v[3];
     if ((r = vbl_load_role_vec3(ctx->path, vf, VBL_ROLE_VELOCITY, path, grid, v))) return r;
     for (int a = 0; a < 3; ++a) medium->velocity.v[a] = v[a];

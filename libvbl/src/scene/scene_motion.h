@@ -12,6 +12,10 @@
  * Fails if albedo * A(x) can exceed 1 in a channel. */
 vbl_result vbl_scene_parse_albedo_grid(const vbl_json_ctx* ctx, const cJSON* albedo, const char* field, const char* dir,
                                        vbl_medium* medium);
+/* A role object's file: its own "vdb" (absolute, or relative to the scene's folder `dir`), else the
+ * medium's file `medium_path`. */
+vbl_result vbl_scene_role_file(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
+                               const char* medium_path, char* out, size_t size);
 /* "velocity" of medium object `obj` (absent: nothing). */
 vbl_result vbl_scene_parse_velocity(const vbl_json_ctx* ctx, const cJSON* obj, const char* field, const char* dir,
                                     vbl_medium* medium);
