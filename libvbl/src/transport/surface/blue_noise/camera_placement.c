@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "transport/surface/blue_noise/stop_latch.h"
 #include "core/rng.h"
 
 int vbl_bn_highly_specular(const vbl_material* m, const vbl_bn_placement_options* o)
@@ -103,15 +104,7 @@ vbl_result vbl_bn_place_candidates(const vbl_scene* scene, const vbl_bn_placemen
     int stopped = 0; /* o->stop said stop: the remaining sub-paths are skipped */
 #pragma omp parallel for schedule(dynamic, 256)
     for (long long k = 0; k < (long long)M; ++k) {
-        int s;
-#pragma omp atomic read
-        s = stopped;
-        if (s) continue;
-        if ((k & 255) == 0 && o->stop && o->stop(o->stop_user)) {
-#pragma omp atomic write
-            stopped = 1;
-            continue;
-        }
+        if (vbl_bn_stop_latch(&stopped, k, o->stop, o->stop_user)) continue;
         kind[k] = (unsigned char)trace_one(scene, o, (size_t)k, &slots[k]);
     }
     if (stopped) {

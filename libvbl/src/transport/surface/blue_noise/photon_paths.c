@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "transport/surface/blue_noise/stop_latch.h"
 #include "core/rng.h"
 #include "media/medium.h"
 #include "transport/common/light_emission.h"
@@ -139,15 +140,7 @@ vbl_result vbl_bn_trace_photons(const vbl_scene* scene, const vbl_bn_photon_opti
             p->count = 0;
             p->failed = 0;
             p->emitted = vbl_v3(0, 0, 0);
-            int s;
-#pragma omp atomic read
-            s = stopped;
-            if (s) continue;
-            if ((i & 255) == 0 && o->stop && o->stop(o->stop_user)) {
-#pragma omp atomic write
-                stopped = 1;
-                continue;
-            }
+            if (vbl_bn_stop_latch(&stopped, i, o->stop, o->stop_user)) continue;
             trace_path(&sh, start + (size_t)i, p);
         }
         if (stopped) {

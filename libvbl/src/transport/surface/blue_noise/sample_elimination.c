@@ -7,6 +7,7 @@
 
 #include "transport/surface/blue_noise/kd_tree.h"
 #include "core/error.h"
+#include "transport/surface/blue_noise/stop_latch.h"
 
 #define MAX_LEVELS 6
 
@@ -77,15 +78,7 @@ vbl_result vbl_bn_compute_rmax(const vbl_vec3* points, size_t M, size_t N, const
 #pragma omp for schedule(dynamic, 256)
         for (long long i = 0; i < (long long)M; ++i) {
             if (!idx || !d2) continue;
-            int s;
-#pragma omp atomic read
-            s = stopped;
-            if (s) continue;
-            if ((i & 255) == 0 && o->stop && o->stop(o->stop_user)) {
-#pragma omp atomic write
-                stopped = 1;
-                continue;
-            }
+            if (vbl_bn_stop_latch(&stopped, i, o->stop, o->stop_user)) continue;
             size_t found = vbl_bn_kdtree_nearest(&tree, points[i], m, (size_t)i, idx, d2);
             double d = found ? sqrt(d2[found - 1]) : 0.0;
             r_max[i] = d * scale;
