@@ -85,7 +85,7 @@ static vbl_film* render_pt(const vbl_scene* scene, const core_config* cfg, int p
 static const core_config cfg_default = {"ratio, no quads", VBL_PT_SHADOW_RENDER, 0};
 static const core_config cfg_mid = {"shadow residual-mid", VBL_PT_SHADOW_RESIDUAL_MID, 0};
 static const core_config cfg_um = {"shadow unbiased-march", VBL_PT_SHADOW_UNBIASED_MARCH, 0};
-/* the defaults (0: residual-mid, quads on) are the two switches together */
+/* the defaults (0: unbiased-march, quads on) are the two switches together */
 static const core_config cfg_quads = {"equiangular quads", VBL_PT_SHADOW_RENDER, 1};
 
 static void check_deterministic_and_active(const core_config* cfg)
