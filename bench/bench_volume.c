@@ -1,7 +1,8 @@
 /* bench_volume [FILE.vdb] [--density-scale S] [--gap]: density lookups/s (PNanoVDB trilinear vs OpenVDB
  * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
  * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads, and ratio /
- * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale). */
+ * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale); --gap adds unbiased
+ * ray marching (transmittance_unbiased_march.h) at several march densities. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
