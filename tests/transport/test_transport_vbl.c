@@ -303,7 +303,7 @@ static void test_zero_radius_matches_vrl(void** state)
     vt_free(vol);
 }
 
-/* The optical radius's options reach the settings: vbl_radius_mfp (default 1) and
+/* The optical radius's options reach the settings: vbl_radius_mfp (default 0.1) and
  * vbl_kernel_tolerance; out-of-range values are refused. */
 static void test_optical_radius_options(void** state)
 {
@@ -395,11 +395,13 @@ static void cv_error(const vbl_scene* s, const double* ref, int P, double r0, do
             o.method = VBL_RENDER_VBL;
             o.beam_lights.radius0 = r0;
             o.beam_lights.alpha = alpha;
+            o.beam_lights.radius_mfp = 1e30; /* eq 11's world-units schedule alone (the optical cap off) */
             f = render_method(s, o);
         } else {
             vbl_beam_light_settings fixed = VBL_BEAM_LIGHT_SETTINGS_DEFAULT;
             fixed.alpha = 1.0;
             fixed.radius0 = r0;
+            fixed.radius_mfp = 1e30;
             g_fixed = fixed;
             assert_int_equal(vbl_render_with_estimator(s, &o, &fixed_vbl, &f), VBL_SUCCESS);
         }

@@ -248,7 +248,7 @@ typedef enum vbl_render_option_effect {
       "vbl.single_scattering", "--vbl-single-scattering", VBL_SINGLE_SCATTERING_DEFAULT, 0, 2,               \
       VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, "default|equiangular|beams", HASH,                   \
       "vbl: volume_direct by equiangular sampling or photon beams (default: equiangular)")                 \
-    X(beam_lights., vbl_radius_mfp, radius_mfp, double, DOUBLE, "vbl.radius_mfp", "--vbl-radius-mfp", 1.0, 0, \
+    X(beam_lights., vbl_radius_mfp, radius_mfp, double, DOUBLE, "vbl.radius_mfp", "--vbl-radius-mfp", 0.1, 0, \
       INFINITY, VBL_OPTION_MIN_OPEN, NULL, HASH,                                                         \
       "vbl: VSL radius cap in mean free paths at the VSL, R = min(R_world, f / sigma_t(x)), shrunk per pass " \
       "like R_world (1e30: world units only)")                                              \

@@ -55,7 +55,7 @@ typedef struct vbl_beam_light_settings {
 #define VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT 16
 /* The default fraction of the local mean free path (render option vbl_radius_mfp = 0) and the
  * default kernel tolerance (vbl_kernel_tolerance): measured in docs/readme/beams.md. */
-#define VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT 1.0
+#define VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT 0.1 /* = the vbl.radius_mfp row's default (measured: docs/readme/vrl.md) */
 #define VBL_BEAM_LIGHT_KERNEL_TOLERANCE_DEFAULT 0.01
 #define VBL_BEAM_LIGHT_SETTINGS_DEFAULT                                                                        \
     {0.0, 0.7, 1, VBL_BEAM_LIGHT_KERNEL_SAMPLES_DEFAULT, 0, 0, 0.0, 0.7, 0, VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT, \
