@@ -115,9 +115,6 @@ struct vbl_scene {
 
 /* Camera ray through continuous raster position (sx, sy), sy down from the top. */
 void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction);
-/* The media's bounding box in scene space (every volume's world bounds through its placement);
- * 0 without media (scene/scene_camera.c). */
-int vbl_camera_media_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi);
 
 /* Programmatic scene building (tests, bindings): a scene with only a camera, then media and
  * lights appended. add_medium retains `volume`; volume_to_scene NULL = identity. */

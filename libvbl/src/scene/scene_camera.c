@@ -17,7 +17,7 @@
 
 /* The media's bounding box in scene space: the 8 corners of every volume's world bounds through
  * its placement. 0 without media. */
-int vbl_camera_media_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
+static int vbl_camera_media_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
 {
     int any = 0;
     for (int m = 0; m < scene->media_count; ++m) {
