@@ -19,7 +19,10 @@
  * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2; transport/common/emission_estimate.h,
  * with the light sampling of the emissive media);
  * seen directly it goes to volume_emission, after scattering to the class of that vertex. A
- * scene without emission takes the plain free flight (decided once per scene). */
+ * scene without emission takes the plain free flight (decided once per scene).
+ * Russian roulette on throughput from the third event on; with pt.guided_rr, adjoint-driven
+ * roulette and splitting from a pre-pass radiance cache (Vorba and Krivanek 2016, sec. 4-5;
+ * transport/path_tracing/pt_guide.h) where the cache has data. */
 #include "transport/path_tracing/pt.h"
 
 #include <math.h>
