@@ -10,7 +10,8 @@
  * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
  * tr_mid*: pt.shadow_transmittance = residual-mid; tr_um*: unbiased-march; every other row sets it
  * to render), eq_quads /
- * eq_quads_mid (pt.equiangular_quads on).
+ * eq_quads_mid (pt.equiangular_quads on), rr_plain / rr_guided / rr_guided8 (pt.guided_rr off / on,
+ * residual-mid shadows as when they were measured).
  * Every configuration renders --spp passes of 1 sample per pixel with the same seed. Per layer it
  * prints rMAE (sum |I - Iref| / sum |Iref|) and rMAE scaled to the first configuration's CPU time,
  * rMAE * sqrt(c / c_first) (noise falls as 1/sqrt(samples), so this is the error it would reach in
@@ -67,6 +68,11 @@ static const bench_config bench_configs[] = {
     {"tr_um", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
     {"tr_um_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
     {"tr_um_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
+    /* issue 14 item 3: the defaults with throughput roulette (rr_plain) and pt.guided_rr (rr_guided*,
+     * the name's suffix picks pt.guide_cells / pt.guide_paths: rr_guided = 16/8, rr_guided8 = 8/8) */
+    {"rr_plain", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
+    {"rr_guided", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
+    {"rr_guided8", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 
@@ -133,6 +139,8 @@ int main(int argc, char** argv)
         o.pt.sampler = bc->sampler;
         o.pt.shadow_transmittance = bc->pt_shadow;
         o.pt.equiangular_quads = bc->equiangular_quads;
+        o.pt.guided_rr = !strncmp(bc->name, "rr_guided", 9);
+        if (!strcmp(bc->name, "rr_guided8")) o.pt.guide_cells = 8;
         o.mis = bc->mis;
         o.transmittance = bc->shadow;
         if (bc->majorant_scale > 0.0) o.transmittance_majorant_scale = bc->majorant_scale;

@@ -205,7 +205,14 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
       "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
       "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \
-      "the collision's NEE and phase sampling)")
+      "the collision's NEE and phase sampling)")                                                            \
+    X(pt., pt_guided_rr, guided_rr, int, BOOL, "pt.guided_rr", "--pt-guided-rr", 0, 0, 1, 0, NULL, HASH,      \
+      "pt: adjoint-driven Russian roulette and splitting from a radiance cache of a deterministic pre-pass " \
+      "(Vorba and Krivanek 2016; unbiased)")                                                                \
+    X(pt., pt_guide_cells, guide_cells, int, INT, "pt.guide_cells", "--pt-guide-cells", 16, 1, 128, 0, NULL, \
+      HASH, "pt.guided_rr: radiance cache cells per axis over the media's bounds")                          \
+    X(pt., pt_guide_paths, guide_paths, int, INT, "pt.guide_paths", "--pt-guide-paths", 8, 1, 4096, 0, NULL, \
+      HASH, "pt.guided_rr: pre-pass paths per radiance cache cell (and per 8x8 pixel block, twice as many)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

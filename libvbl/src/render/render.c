@@ -15,6 +15,7 @@
 #include "sampling/sobol.h"
 #include "transport/common/estimator.h"
 #include "transport/path_tracing/pt.h"
+#include "transport/path_tracing/pt_guide.h"
 
 #define VBL_TILE 16
 
@@ -266,6 +267,15 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
     const int tile_count = tiles_x * tiles_y;
     double start = omp_get_wtime();
+    /* pt.guided_rr: the radiance cache's pre-pass, once per render (pt_guide.h) */
+    vbl_pt_guide* guide = NULL;
+    if (est->camera_sample == vbl_pt_camera_sample && options->pt.guided_rr) {
+        if ((r = vbl_pt_guide_build(&ctx, &guide))) {
+            free(accum);
+            return r;
+        }
+        ctx.pt_guide = guide;
+    }
     volatile int stop_latch = 0;
     ctx.stop_latch = &stop_latch;
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
@@ -290,6 +300,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         if (stoppable && passes_done > 0) {
             if (!backup && !(backup = malloc(pixel_count * sizeof *backup))) {
                 free(accum);
+                vbl_pt_guide_free(guide);
                 return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the film's pass copy", scene->path);
             }
             memcpy(backup, accum, pixel_count * sizeof *backup);
@@ -308,6 +319,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             }
             free(backup);
             free(accum);
+            vbl_pt_guide_free(guide);
             return r;
         }
         volatile int stop_pass = 0;
@@ -367,6 +379,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
     }
     free(backup);
+    vbl_pt_guide_free(guide);
     if (passes_done == 0) { /* stopped inside the first pass: nothing to return */
         free(accum);
         const char* why = cancelled ? "render cancelled" : "time limit reached";

@@ -51,6 +51,8 @@ typedef struct vbl_render_context {
     double deadline;              /* omp_get_wtime() at which options.time_limit ends (0: none) */
     volatile int* stop_latch;     /* the driver's: set once vbl_render_stop_requested said 1, so a
                                      stop seen anywhere in a pass is seen by the driver too (NULL ok) */
+    const struct vbl_pt_guide* pt_guide; /* pt.guided_rr: the radiance cache of the render's pre-pass
+                                            (transport/path_tracing/pt_guide.h; NULL: plain RR) */
 } vbl_render_context;
 
 /* 1 once the render must stop: *options.cancel is non-zero or the time limit has passed (a context

@@ -19,7 +19,10 @@
  * Pharr, Jakob and Humphreys 2023, pbrt-v4, sec. 14.2; transport/common/emission_estimate.h,
  * with the light sampling of the emissive media);
  * seen directly it goes to volume_emission, after scattering to the class of that vertex. A
- * scene without emission takes the plain free flight (decided once per scene). */
+ * scene without emission takes the plain free flight (decided once per scene).
+ * Russian roulette on throughput from the third event on; with pt.guided_rr, adjoint-driven
+ * roulette and splitting from a pre-pass radiance cache (Vorba and Krivanek 2016, sec. 4-5;
+ * transport/path_tracing/pt_guide.h) where the cache has data. */
 #include "transport/path_tracing/pt.h"
 
 #include <math.h>
@@ -31,6 +34,7 @@
 #include "media/medium_grids.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/path_tracing/pt_equiangular.h"
+#include "transport/path_tracing/pt_guide.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
@@ -200,6 +204,18 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     L->z += beta.z * f.z * ls.li.z * s;
 }
 
+/* pt.guided_rr's splitting (pt_guide.h): the copies of a path still to trace, each with its own
+ * stream (drawn from the splitting path's), depth first; at most VBL_PT_SPLIT_STACK wait at once. */
+#define VBL_PT_SPLIT_STACK 32
+typedef struct vbl_pt_branch {
+    vbl_vec3 origin, direction, vertex, beta;
+    double prev_pdf;
+    vbl_pt_path path;
+    vbl_pt_eq_vertex eq_vertex;
+    int has_eq_vertex;
+    vbl_rng rng;
+} vbl_pt_branch;
+
 void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -217,10 +233,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const int equiangular = vbl_pt_equiangular_active(ctx);
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
-    vbl_pt_eq_vertex eq_vertex;
+    vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
     int has_eq_vertex = 0;
-    const vbl_pt_dims dims = {ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL, ctx->options.seed, sample->pixel_index,
-                              sample->sample_index};
+    vbl_pt_dims dims = {ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL, ctx->options.seed, sample->pixel_index,
+                        sample->sample_index};
     /* options.transmittance_majorant_scale buys low-noise shadow rays where they matter most, at
      * the camera-visible vertex (surface_direct, volume_direct); deeper vertices use the tight
      * majorant (their noise is dominated by the path, not by T) */
@@ -241,12 +257,17 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         ctx = &shadow_ctx;
     }
     const vbl_render_context* first_ctx = ctx;
+    const vbl_pt_guide* guide = ctx->pt_guide;
+    vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
+    int branch_count = 0;
+    vbl_rng branch_rng;
     vbl_render_context tight_ctx;
     if (ctx->tracking.majorant_scale > 1.0) {
         tight_ctx = *ctx;
         tight_ctx.tracking.majorant_scale = 1.0;
         ctx = &tight_ctx;
     }
+    for (;;) { /* the camera path, then each waiting copy of a split */
     for (;;) {
         const vbl_render_context* nee_ctx = path.events == 0 ? first_ctx : ctx;
         vbl_surface_hit hit;
@@ -331,14 +352,34 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             has_eq_vertex = 0;
         }
         if (!(vbl_v3_max_component(beta) > 0.0)) break;
+        /* pt.guided_rr: the cache's roulette and splitting where it knows the radiance (pt_guide.h) */
+        int copies = guide ? vbl_pt_guide_decide(guide, vertex, sample->px, sample->py,
+                                                 1 + VBL_PT_SPLIT_STACK - branch_count, rng, &beta)
+                           : -1;
+        if (copies == 0) break;
+        if (copies > 1) { /* the copies draw from streams of their own, not the shared Sobol pattern */
+            dims.sobol = 0;
+            uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
+            key |= vbl_rng_next_u32(rng);
+            for (int k = 1; k < copies; ++k)
+                branches[branch_count++] = (vbl_pt_branch){origin, wi, vertex, beta, pdf, path, eq_vertex, has_eq_vertex,
+                                                           vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)};
+        }
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
-        if (path.events >= 3) {
+        if (copies < 0 && path.events >= 3) {
             double q = fmin(1.0, vbl_v3_max_component(beta));
             if (vbl_rng_uniform(rng) >= q) break;
             beta = vbl_v3_scale(beta, 1.0 / q);
         }
         prev_pdf = pdf;
         direction = wi;
+    }
+        if (branch_count == 0) break;
+        const vbl_pt_branch* b = &branches[--branch_count];
+        origin = b->origin, direction = b->direction, vertex = b->vertex, beta = b->beta;
+        prev_pdf = b->prev_pdf, path = b->path, eq_vertex = b->eq_vertex, has_eq_vertex = b->has_eq_vertex;
+        branch_rng = b->rng;
+        rng = &branch_rng;
     }
 }
 
