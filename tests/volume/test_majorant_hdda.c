@@ -38,6 +38,21 @@ static double fn_blobs(int i, int j, int k, void* user)
     return v;
 }
 
+/* Many small blobs: many transitions between empty and non-empty coarse cells. */
+static double fn_sparse(int i, int j, int k, void* user)
+{
+    (void)user;
+    double v = 0.0;
+    for (int b = 0; b < 60; ++b) {
+        uint64_t h = (uint64_t)b * 0x9E3779B97F4A7C15ull;
+        double cx = (double)((h >> 8) % 60) + 2, cy = (double)((h >> 20) % 60) + 2, cz = (double)((h >> 32) % 60) + 2;
+        double x = i - cx, y = j - cy, z = k - cz;
+        double r2 = (x * x + y * y + z * z) / 6.0;
+        if (r2 < 1.0) v += 1.0 - r2;
+    }
+    return v;
+}
+
 static const int BMIN[3] = {0, 0, 0}, BMAX[3] = {N - 1, N - 1, N - 1};
 
 /* ---- reference: the block-by-block walk (the iterator before the coarse level) ------------- */
@@ -174,13 +189,12 @@ static double* g_voxel_map(double m[3][4])
     return &m[0][0];
 }
 
-static void test_bit_identical_to_block_walk(void** state)
+static void check_bit_identical(vt_voxel_fn fn)
 {
-    (void)state;
     double m[3][4];
     g_voxel_map(m);
     size_t size;
-    void* buf = vt_make_nanovdb(BMIN, BMAX, fn_blobs, NULL, m, &size);
+    void* buf = vt_make_nanovdb(BMIN, BMAX, fn, NULL, m, &size);
     vbl_volume* v = vt_wrap(buf, size, 2);
     assert_non_null(v);
     assert_non_null(v->majorant.coarse_max);
@@ -221,6 +235,13 @@ static void test_bit_identical_to_block_walk(void** state)
     assert_true(nonempty > 2000);
     assert_true(merged_empty > 5000); /* empty coarse cells were crossed in one step */
     vt_free(v);
+}
+
+static void test_bit_identical_to_block_walk(void** state)
+{
+    (void)state;
+    check_bit_identical(fn_blobs);
+    check_bit_identical(fn_sparse);
 }
 
 /* Coverage and bounds with merging on (optical depth and spread criteria). */
