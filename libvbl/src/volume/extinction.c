@@ -217,7 +217,7 @@ int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* se
     }
     if (ext->count == 1) { /* fast path: no merging */
         const double s = ext->components[0].density_scale;
-        if (!vbl_majorant_iter_next(&iter->iters[0], segment)) return 0;
+        if (!vbl_majorant_iter_next_inline(&iter->iters[0], segment)) return 0;
         segment->majorant *= s;
         segment->minorant *= s;
         return 1;

@@ -23,8 +23,7 @@
 static inline double vbl_dda_boundary_t(const vbl_majorant_iter* it, int axis)
 {
     if (it->step[axis] == 0) return INFINITY;
-    double boundary = (double)(it->cell[axis] + (it->step[axis] > 0 ? 1 : 0));
-    return (boundary - it->org[axis]) * it->inv_dir[axis];
+    return vbl_majorant_iter_boundary(it, axis);
 }
 
 void vbl_majorant_iter_init(vbl_majorant_iter* it, const vbl_volume* volume, vbl_vec3 origin, vbl_vec3 direction,
@@ -108,9 +107,7 @@ void vbl_majorant_iter_init_coarse(vbl_majorant_iter* it, const vbl_majorant_gri
     it->coarse_check = g->coarse_max != NULL;
 }
 
-/* The coarse cell of `cell`: crossed in one step if it qualifies (see the file comment).
- * Returns -1 (descend: walk its blocks), 0 (crossed, zero length) or 1 (segment filled). */
-static int vbl_coarse_step(vbl_majorant_iter* it, vbl_majorant_segment* segment)
+int vbl_majorant_iter_coarse_step(vbl_majorant_iter* it, vbl_majorant_segment* segment)
 {
     const vbl_majorant_grid* g = it->grid;
     const int L = VBL_MAJORANT_COARSE_LOG2;
@@ -174,54 +171,5 @@ static int vbl_coarse_step(vbl_majorant_iter* it, vbl_majorant_segment* segment)
 
 int vbl_majorant_iter_next(vbl_majorant_iter* it, vbl_majorant_segment* segment)
 {
-    const vbl_majorant_grid* g = it->grid;
-    while (!it->done) {
-        if (it->coarse_check) {
-            it->coarse_check = 0;
-            int r = vbl_coarse_step(it, segment);
-            if (r == 1) return 1;
-            if (r == 0) continue;
-        }
-        /* the axis of the nearest boundary, ties to the lower axis, without branches (the
-         * choice is unpredictable along a random ray) */
-        const double ta = it->t_next[0], tb = it->t_next[1], tc = it->t_next[2];
-        const int b_lt_a = tb < ta;
-        const double tab = b_lt_a ? tb : ta;
-        const int c_lt = tc < tab;
-        const int axis = c_lt ? 2 : b_lt_a;
-        const double t_cross = c_lt ? tc : tab;
-        double t1 = t_cross < it->t_end ? t_cross : it->t_end;
-        if (t1 < it->t) t1 = it->t;
-        const size_t index = it->index;
-        const double t0 = it->t;
-        it->steps++;
-        if (t_cross < it->t_end) {
-            const int old = it->cell[axis];
-            const int cell = old + it->step[axis];
-            it->cell[axis] = cell;
-            if ((unsigned)cell >= (unsigned)g->dims[axis]) {
-                it->done = 1;
-            } else {
-                it->index = index + (size_t)it->stride[axis];
-                /* step[axis] != 0 here (a zero component never has the nearest boundary) */
-                it->t_next[axis] = ((double)(cell + (it->step[axis] > 0)) - it->org[axis]) * it->inv_dir[axis];
-                /* a new coarse cell is examined before its first block */
-                it->coarse_check = (old >> VBL_MAJORANT_COARSE_LOG2) != (cell >> VBL_MAJORANT_COARSE_LOG2) &&
-                                   g->coarse_max != NULL;
-            }
-            /* A boundary that rounding placed behind the current t is crossed at once. */
-            it->t = t1;
-        } else {
-            it->done = 1;
-            it->t = it->t_end;
-        }
-        if (t1 > t0) {
-            segment->t0 = t0;
-            segment->t1 = t1;
-            segment->majorant = g->max_density[index];
-            segment->minorant = g->min_density[index];
-            return 1;
-        }
-    }
-    return 0;
+    return vbl_majorant_iter_next_inline(it, segment);
 }
