@@ -72,7 +72,7 @@ static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
 
 static double g_majorant_scale = 1.0; /* vbl_tracking_settings.majorant_scale of run_estimator */
 static int g_residual_mid = 0;        /* vbl_tracking_settings.residual_mid of run_estimator */
-static double g_coarse_depth = -1.0;  /* --coarse-depth: vbl_extinction.coarse_depth (< 0: default) */
+static double g_coarse_depth = -9.0;  /* --coarse-depth: vbl_extinction.coarse_depth (-9: default) */
 static double g_coarse_ratio = -1.0;  /* --coarse-ratio: vbl_extinction.coarse_ratio (< 0: default) */
 
 /* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
@@ -149,7 +149,7 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
     for (int rep = 0; rep < 3; ++rep) { /* the walk alone (thick medium's scale), best of 3 */
         vbl_extinction e1;
         vbl_extinction_init(&e1);
-        if (g_coarse_depth >= 0.0) e1.coarse_depth = g_coarse_depth;
+        if (g_coarse_depth > -2.0) e1.coarse_depth = g_coarse_depth;
         if (g_coarse_ratio >= 0.0) e1.coarse_ratio = g_coarse_ratio;
         vbl_extinction_add(&e1, v, scale, NULL);
         double s = 0.0, ne = 0.0, st = 0.0, chk = 0.0;
@@ -172,14 +172,14 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
     }
     printf("# raw trilinear lookups/s along rays (1 thread, thread CPU time, best of 3): %.4g (checksum %.6g); majorant DDA segments per ray %.1f\n", raw, sum, segs);
     printf("# majorant walk (coarse_depth %g, coarse_ratio %g): %.1f segments per ray (%.1f non-empty), %.1f DDA steps per ray, %.0f ns per ray (walk only)\n",
-           g_coarse_depth >= 0.0 ? g_coarse_depth : VBL_COARSE_DEPTH_DEFAULT,
+           g_coarse_depth > -2.0 ? g_coarse_depth : VBL_COARSE_DEPTH_DEFAULT,
            g_coarse_ratio >= 0.0 ? g_coarse_ratio : VBL_COARSE_RATIO_DEFAULT, segs, nonempty, steps, 1e9 * walk / (10.0 * nrays));
     printf("| medium | estimator | mean T | variance | lookups/query | queries/s | limit queries/s | x of limit | efficiency 1/(var x s) |\n"
            "|---|---|---|---|---|---|---|---|---|\n");
     for (int thin = 0; thin < 2; ++thin) {
         vbl_extinction ext;
         vbl_extinction_init(&ext);
-        if (g_coarse_depth >= 0.0) ext.coarse_depth = g_coarse_depth;
+        if (g_coarse_depth > -2.0) ext.coarse_depth = g_coarse_depth;
         if (g_coarse_ratio >= 0.0) ext.coarse_ratio = g_coarse_ratio;
         vbl_extinction_add(&ext, v, thin ? 0.25 * scale : scale, NULL);
         const vbl_transmittance_estimator ests[] = {VBL_TRANSMITTANCE_RATIO_TRACKING,

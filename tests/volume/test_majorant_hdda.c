@@ -346,7 +346,7 @@ static void test_transmittance_means_unchanged(void** state)
         vbl_extinction_init(&e[i]);
         assert_int_equal(vbl_extinction_add(&e[i], v, 0.3, NULL), VBL_SUCCESS);
     }
-    e[0].coarse_depth = 0.0;
+    e[0].coarse_depth = -1.0; /* the plain block walk */
     e[0].coarse_ratio = 0.0;
     e[1].coarse_depth = 2.0;
     e[1].coarse_ratio = 3.0;

@@ -198,7 +198,8 @@ void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* e
         /* coarse_depth in the grid's unscaled units (a component of scale 0 adds nothing: any
          * coarse cell is one segment) */
         const double s = ext->components[c].density_scale;
-        const double tau = ext->coarse_depth > 0.0 ? (s > 0.0 ? ext->coarse_depth / s : INFINITY) : 0.0;
+        const double tau = ext->coarse_depth > 0.0 ? (s > 0.0 ? ext->coarse_depth / s : INFINITY)
+                                                   : (ext->coarse_depth < 0.0 ? -1.0 : 0.0);
         vbl_majorant_iter_init_coarse(&iter->iters[c], vbl_component_majorant(&ext->components[c]),
                                       &ext->components[c].volume->world_to_index, o, d, tmin, tmax, tau,
                                       ext->coarse_ratio);

@@ -48,9 +48,10 @@ void vbl_majorant_iter_init_coarse(vbl_majorant_iter* it, const vbl_majorant_gri
     it->t_end = tmax;
     it->steps = 0;
     it->coarse_check = 0;
+    const int use_coarse = !(coarse_tau < 0.0); /* < 0: the block walk only */
     it->coarse_tau = coarse_tau > 0.0 ? coarse_tau : 0.0; /* NaN: 0 */
     it->coarse_ratio = coarse_ratio >= 1.0 ? coarse_ratio : 0.0;
-    it->coarse_merge = it->coarse_tau > 0.0 || it->coarse_ratio > 0.0;
+    it->coarse_merge = (it->coarse_tau > 0.0 || it->coarse_ratio > 0.0) && use_coarse;
     if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0 || !g->max_density) return;
     if (!(tmin < tmax)) return; /* zero-length, reversed or NaN interval: no segments */
 
@@ -104,7 +105,8 @@ void vbl_majorant_iter_init_coarse(vbl_majorant_iter* it, const vbl_majorant_gri
     it->t = t0;
     it->t_end = t1;
     it->done = 0;
-    it->coarse_check = g->coarse_max != NULL;
+    it->coarse_check = g->coarse_max != NULL && use_coarse;
+    it->coarse_merge &= use_coarse;
 }
 
 int vbl_majorant_iter_coarse_step(vbl_majorant_iter* it, vbl_majorant_segment* segment)

@@ -44,8 +44,9 @@ void vbl_majorant_iter_init_grid(vbl_majorant_iter* iter, const vbl_majorant_gri
 /* As vbl_majorant_iter_init_grid, and a coarse cell comes as one segment with the coarse cell's
  * bounds (fewer, looser segments; still true bounds) when its (unscaled) majorant times the
  * ray's length in it is <= coarse_tau, or its max is <= coarse_ratio times the smallest max of
- * its blocks, or its blocks all hold the same constant value. coarse_tau <= 0 and coarse_ratio
- * < 1: only empty coarse cells are merged (the segments of vbl_majorant_iter_init_grid). */
+ * its blocks, or its blocks all hold the same constant value. coarse_tau == 0 and coarse_ratio
+ * < 1: only empty coarse cells are merged (the segments of vbl_majorant_iter_init_grid);
+ * coarse_tau < 0: no coarse level at all (the plain block walk, same non-empty segments). */
 void vbl_majorant_iter_init_coarse(vbl_majorant_iter* iter, const vbl_majorant_grid* grid,
                                    const vbl_affine* world_to_index, vbl_vec3 origin, vbl_vec3 direction, double tmin,
                                    double tmax, double coarse_tau, double coarse_ratio);
@@ -72,17 +73,26 @@ static inline int vbl_majorant_iter_next_inline(vbl_majorant_iter* it, vbl_major
     while (!it->done) {
         if (it->coarse_check) {
             it->coarse_check = 0;
-            int r = vbl_majorant_iter_coarse_step(it, segment);
-            if (r == 1) return 1;
-            if (r == 0) continue;
+            /* inline pre-check: without merging only an empty coarse cell is crossed whole */
+            int cross = it->coarse_merge;
+            if (!cross) {
+                const int L = VBL_MAJORANT_COARSE_LOG2;
+                const size_t ci = (size_t)(it->cell[0] >> L) +
+                                  (size_t)g->coarse_dims[0] * ((size_t)(it->cell[1] >> L) +
+                                                               (size_t)g->coarse_dims[1] * (size_t)(it->cell[2] >> L));
+                cross = g->coarse_max[ci] == 0.0f && g->coarse_min[ci] == 0.0f;
+            }
+            if (cross) {
+                int r = vbl_majorant_iter_coarse_step(it, segment);
+                if (r == 1) return 1;
+                if (r == 0) continue;
+            }
         }
         /* the axis of the nearest boundary, ties to the lower axis */
-        const double ta = it->t_next[0], tb = it->t_next[1], tc = it->t_next[2];
-        const int b_lt_a = tb < ta;
-        const double tab = b_lt_a ? tb : ta;
-        const int c_lt = tc < tab;
-        const int axis = c_lt ? 2 : b_lt_a;
-        const double t_cross = c_lt ? tc : tab;
+        int axis = 0;
+        if (it->t_next[1] < it->t_next[axis]) axis = 1;
+        if (it->t_next[2] < it->t_next[axis]) axis = 2;
+        const double t_cross = it->t_next[axis];
         double t1 = t_cross < it->t_end ? t_cross : it->t_end;
         if (t1 < it->t) t1 = it->t;
         const size_t index = it->index;
