@@ -350,7 +350,10 @@ static void test_transmittance_means_unchanged(void** state)
     e[0].coarse_ratio = 0.0;
     e[1].coarse_depth = 2.0;
     e[1].coarse_ratio = 3.0;
-    vbl_tracking_settings set = {VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, 0, 1.0, 0.0, 0};
+    vbl_tracking_settings set;
+    memset(&set, 0, sizeof set);
+    set.estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;
+    set.majorant_scale = 1.0;
     const vbl_vec3 rays[3][2] = {{{-5, 12, 9}, {1, 0.01, 0.02}}, {{70, 50, 18}, {-1, -0.1, 0.05}}, {{30, 70, 0}, {0.1, -1, 1}}};
     for (int r = 0; r < 3; ++r) {
         double mean[2], var[2];
