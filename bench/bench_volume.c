@@ -1,4 +1,4 @@
-/* bench_volume [FILE.vdb] [--density-scale S] [--gap]: density lookups/s (PNanoVDB trilinear vs OpenVDB
+/* bench_volume [FILE.vdb] [--density-scale S] [--gap] [--coarse-depth K] [--coarse-ratio R]: density lookups/s (PNanoVDB trilinear vs OpenVDB
  * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
  * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads, and ratio /
  * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale); --gap adds unbiased
@@ -74,6 +74,8 @@ static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
 
 static double g_majorant_scale = 1.0; /* vbl_tracking_settings.majorant_scale of run_estimator */
 static int g_residual_mid = 0;        /* vbl_tracking_settings.residual_mid of run_estimator */
+static double g_coarse_depth = -9.0;  /* --coarse-depth: vbl_extinction.coarse_depth (-9: default) */
+static double g_coarse_ratio = -1.0;  /* --coarse-ratio: vbl_extinction.coarse_ratio (< 0: default) */
 static int g_unbiased = 0;            /* 1: run_estimator runs unbiased ray marching with g_um */
 static vbl_unbiased_march_params g_um;
 
@@ -150,25 +152,42 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
     bench_ray* rays = malloc(sizeof *rays * (size_t)nrays);
     make_rays(info, rays, nrays);
     if (scale <= 0.0) scale = 4.0 / (info->value_max * 64.0 * info->voxel_size[0]);
-    double segs = 0.0;
-    {
+    double segs = 0.0, nonempty = 0.0, steps = 0.0, walk = 1e300;
+    for (int rep = 0; rep < 3; ++rep) { /* the walk alone (thick medium's scale), best of 3 */
         vbl_extinction e1;
         vbl_extinction_init(&e1);
-        vbl_extinction_add(&e1, v, 1.0, NULL);
-        for (int r = 0; r < nrays; ++r) {
+        if (g_coarse_depth > -2.0) e1.coarse_depth = g_coarse_depth;
+        if (g_coarse_ratio >= 0.0) e1.coarse_ratio = g_coarse_ratio;
+        vbl_extinction_add(&e1, v, scale, NULL);
+        double s = 0.0, ne = 0.0, st = 0.0, chk = 0.0;
+        double t0 = clock_now();
+        for (int r = 0; r < 10 * nrays; ++r) { /* 10 walks per ray: a measurable time */
             vbl_extinction_iter it;
             vbl_majorant_segment seg;
-            vbl_extinction_iter_init(&it, &e1, rays[r].o, rays[r].d, 0.0, rays[r].t1, 0);
-            while (vbl_extinction_iter_next(&it, &seg)) segs += 1.0;
+            vbl_extinction_iter_init(&it, &e1, rays[r % nrays].o, rays[r % nrays].d, 0.0, rays[r % nrays].t1, 0);
+            while (vbl_extinction_iter_next(&it, &seg)) {
+                s += 1.0;
+                ne += seg.majorant > 0.0;
+                chk += seg.majorant * (seg.t1 - seg.t0);
+            }
+            st += (double)it.iters[0].steps;
         }
-        segs /= nrays;
+        double dt = clock_now() - t0;
+        if (dt < walk) walk = dt;
+        segs = s / (10.0 * nrays), nonempty = ne / (10.0 * nrays), steps = st / (10.0 * nrays);
+        if (chk < 0.0) printf("#\n"); /* keeps the walk */
     }
     printf("# raw trilinear lookups/s along rays (1 thread, thread CPU time, best of 3): %.4g (checksum %.6g); majorant DDA segments per ray %.1f\n", raw, sum, segs);
+    printf("# majorant walk (coarse_depth %g, coarse_ratio %g): %.1f segments per ray (%.1f non-empty), %.1f DDA steps per ray, %.0f ns per ray (walk only)\n",
+           g_coarse_depth > -2.0 ? g_coarse_depth : VBL_COARSE_DEPTH_DEFAULT,
+           g_coarse_ratio >= 0.0 ? g_coarse_ratio : VBL_COARSE_RATIO_DEFAULT, segs, nonempty, steps, 1e9 * walk / (10.0 * nrays));
     printf("| medium | estimator | mean T | variance | lookups/query | queries/s | limit queries/s | x of limit | efficiency 1/(var x s) |\n"
            "|---|---|---|---|---|---|---|---|---|\n");
     for (int thin = 0; thin < 2; ++thin) {
         vbl_extinction ext;
         vbl_extinction_init(&ext);
+        if (g_coarse_depth > -2.0) ext.coarse_depth = g_coarse_depth;
+        if (g_coarse_ratio >= 0.0) ext.coarse_ratio = g_coarse_ratio;
         vbl_extinction_add(&ext, v, thin ? 0.25 * scale : scale, NULL);
         const vbl_transmittance_estimator ests[] = {VBL_TRANSMITTANCE_RATIO_TRACKING,
                                                     VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING};
@@ -225,6 +244,8 @@ int main(int argc, char** argv)
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--density-scale") && i + 1 < argc) scale = atof(argv[++i]);
         else if (!strcmp(argv[i], "--gap")) gap_only = 1;
+        else if (!strcmp(argv[i], "--coarse-depth") && i + 1 < argc) g_coarse_depth = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--coarse-ratio") && i + 1 < argc) g_coarse_ratio = atof(argv[++i]);
         else path = argv[i];
     }
     vbl_volume_load_options lopt = VBL_VOLUME_LOAD_OPTIONS_DEFAULT;

@@ -17,7 +17,12 @@ static vbl_affine vbl_affine_identity(void)
     return a;
 }
 
-void vbl_extinction_init(vbl_extinction* ext) { memset(ext, 0, sizeof *ext); }
+void vbl_extinction_init(vbl_extinction* ext)
+{
+    memset(ext, 0, sizeof *ext);
+    ext->coarse_depth = VBL_COARSE_DEPTH_DEFAULT;
+    ext->coarse_ratio = VBL_COARSE_RATIO_DEFAULT;
+}
 
 vbl_result vbl_extinction_add(vbl_extinction* ext, const vbl_volume* volume, double density_scale,
                               const vbl_affine* scene_to_volume)
@@ -190,8 +195,14 @@ void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* e
     for (int c = 0; c < ext->count; ++c) {
         vbl_vec3 o, d;
         vbl_extinction_component_ray(&ext->components[c], origin, direction, &o, &d);
-        vbl_majorant_iter_init_grid(&iter->iters[c], vbl_component_majorant(&ext->components[c]),
-                                    &ext->components[c].volume->world_to_index, o, d, tmin, tmax);
+        /* coarse_depth in the grid's unscaled units (a component of scale 0 adds nothing: any
+         * coarse cell is one segment) */
+        const double s = ext->components[c].density_scale;
+        const double tau = ext->coarse_depth > 0.0 ? (s > 0.0 ? ext->coarse_depth / s : INFINITY)
+                                                   : (ext->coarse_depth < 0.0 ? -1.0 : 0.0);
+        vbl_majorant_iter_init_coarse(&iter->iters[c], vbl_component_majorant(&ext->components[c]),
+                                      &ext->components[c].volume->world_to_index, o, d, tmin, tmax, tau,
+                                      ext->coarse_ratio);
         iter->has_pending[c] = 0;
     }
 }
@@ -207,7 +218,7 @@ int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* se
     }
     if (ext->count == 1) { /* fast path: no merging */
         const double s = ext->components[0].density_scale;
-        if (!vbl_majorant_iter_next(&iter->iters[0], segment)) return 0;
+        if (!vbl_majorant_iter_next_inline(&iter->iters[0], segment)) return 0;
         segment->majorant *= s;
         segment->minorant *= s;
         return 1;

@@ -26,7 +26,22 @@ typedef struct vbl_extinction {
     vbl_medium_component components[VBL_MAX_MEDIA];
     int count;
     double max_sigma_t;  /* global majorant: sum over components of scale * global max */
+    /* Optical depth below which a coarse majorant cell is tracked as one segment (its majorant
+     * x the ray's length in it, in sigma_t units): fewer DDA steps for at most this many extra
+     * tentative collisions per coarse cell. 0: only empty coarse cells are merged (the block
+     * walk's non-empty segments); < 0: no coarse level (the block walk). vbl_extinction_init
+     * sets VBL_COARSE_DEPTH_DEFAULT. */
+    double coarse_depth;
+    /* A coarse cell whose max is <= coarse_ratio x its smallest block max is one segment too
+     * (at most coarse_ratio x the block walk's tentative collisions in it). < 1: off.
+     * vbl_extinction_init sets VBL_COARSE_RATIO_DEFAULT. */
+    double coarse_ratio;
 } vbl_extinction;
+
+/* Defaults of vbl_extinction.coarse_depth / coarse_ratio: off, by measurement (docs/readme/volume.md,
+ * "Hierarchical majorant walk"): neither the empty-cell skip nor merging paid on the sample scenes. */
+#define VBL_COARSE_DEPTH_DEFAULT (-1.0)
+#define VBL_COARSE_RATIO_DEFAULT 0.0
 
 /* Builds an extinction field: init empties it; add appends a component (scene_to_volume NULL =
  * identity) and keeps max_sigma_t up to date. Returns VBL_ERROR_UNSUPPORTED past VBL_MAX_MEDIA and

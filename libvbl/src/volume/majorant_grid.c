@@ -6,6 +6,7 @@
  * bound (trilinear weights are convex), not an estimate from samples. */
 #include "volume/volume.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -98,6 +99,53 @@ vbl_result vbl_majorant_grid_build(vbl_majorant_grid* grid, const vbl_volume* vo
         if (maxd[index] > grid->global_max) grid->global_max = maxd[index];
         if (mind[index] < grid->global_min) grid->global_min = mind[index];
     }
+    return vbl_majorant_grid_build_coarse(grid);
+}
+
+vbl_result vbl_majorant_grid_build_coarse(vbl_majorant_grid* grid)
+{
+    free(grid->coarse_max);
+    free(grid->coarse_min);
+    free(grid->coarse_spread);
+    grid->coarse_max = grid->coarse_min = grid->coarse_spread = NULL;
+    if (!grid->max_density) return VBL_SUCCESS;
+    const int C = VBL_MAJORANT_COARSE;
+    int64_t total = 1;
+    int cd[3];
+    for (int a = 0; a < 3; ++a) {
+        cd[a] = (grid->dims[a] + C - 1) / C;
+        grid->coarse_dims[a] = cd[a];
+        total *= cd[a];
+    }
+    float* cmax = malloc((size_t)total * sizeof(float));
+    float* cmin = malloc((size_t)total * sizeof(float));
+    float* cspread = malloc((size_t)total * sizeof(float));
+    if (!cmax || !cmin || !cspread) {
+        free(cmax);
+        free(cmin);
+        free(cspread);
+        return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "coarse majorant grid of %lld cells", (long long)total);
+    }
+    for (int64_t i = 0; i < total; ++i) {
+        cmax[i] = -3.402823466e38f;
+        cmin[i] = 3.402823466e38f;
+        cspread[i] = 3.402823466e38f; /* smallest block max, then the ratio */
+    }
+    const int64_t dx = grid->dims[0], dy = grid->dims[1], dz = grid->dims[2];
+    for (int64_t z = 0; z < dz; ++z)
+        for (int64_t y = 0; y < dy; ++y)
+            for (int64_t x = 0; x < dx; ++x) {
+                int64_t f = x + dx * (y + dy * z);
+                int64_t c = x / C + (int64_t)cd[0] * (y / C + (int64_t)cd[1] * (z / C));
+                if (grid->max_density[f] > cmax[c]) cmax[c] = grid->max_density[f];
+                if (grid->min_density[f] < cmin[c]) cmin[c] = grid->min_density[f];
+                if (grid->max_density[f] < cspread[c]) cspread[c] = grid->max_density[f];
+            }
+    for (int64_t i = 0; i < total; ++i)
+        cspread[i] = cspread[i] > 0.0f ? cmax[i] / cspread[i] : (cmax[i] > 0.0f ? INFINITY : 1.0f);
+    grid->coarse_max = cmax;
+    grid->coarse_min = cmin;
+    grid->coarse_spread = cspread;
     return VBL_SUCCESS;
 }
 
@@ -105,8 +153,14 @@ void vbl_majorant_grid_free(vbl_majorant_grid* grid)
 {
     free(grid->max_density);
     free(grid->min_density);
+    free(grid->coarse_max);
+    free(grid->coarse_min);
+    free(grid->coarse_spread);
+    grid->coarse_spread = NULL;
     grid->max_density = NULL;
     grid->min_density = NULL;
+    grid->coarse_max = NULL;
+    grid->coarse_min = NULL;
 }
 
 /* One axis of the dilation: dst (dims_out) from src (dims_in, offset k along `axis`): each cell the
@@ -191,5 +245,7 @@ vbl_result vbl_majorant_grid_dilate(const vbl_majorant_grid* src, const int k[3]
     for (int a = 0; a < 3; ++a) out->dims[a] = dims[a];
     out->global_max = src->global_max;
     out->global_min = src->global_min < 0.0 ? src->global_min : 0.0;
-    return VBL_SUCCESS;
+    vbl_result res = vbl_majorant_grid_build_coarse(out);
+    if (res != VBL_SUCCESS) vbl_majorant_grid_free(out);
+    return res;
 }

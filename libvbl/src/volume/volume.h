@@ -22,7 +22,19 @@ typedef struct vbl_majorant_grid {
     float* max_density; /* dims[0]*dims[1]*dims[2], x fastest */
     float* min_density;
     double global_max, global_min;
+    /* Coarse level (hierarchical DDA, Museth 2014): cell (cx,cy,cz) covers the blocks
+     * [c * VBL_MAJORANT_COARSE, (c + 1) * VBL_MAJORANT_COARSE) per axis (clipped to dims) and
+     * stores the max / min of their max_density / min_density, so it bounds every trilinear
+     * sample in them. NULL when not built (the iterator then walks blocks only). */
+    int coarse_dims[3];
+    float* coarse_max;
+    float* coarse_min;
+    float* coarse_spread; /* coarse max / the smallest block max in the cell (>= 1; inf if one is 0) */
 } vbl_majorant_grid;
+
+/* Blocks per coarse cell edge (a power of two: the iterator divides by shifting). */
+#define VBL_MAJORANT_COARSE_LOG2 2
+#define VBL_MAJORANT_COARSE (1 << VBL_MAJORANT_COARSE_LOG2)
 
 struct vbl_volume {
     int refcount;
@@ -61,6 +73,8 @@ void vbl_majorant_grid_free(vbl_majorant_grid* grid);
 /* `out` = `src` dilated by k[a] blocks along each axis a (grown by as many blocks on each side):
  * every block the max (min) over the source blocks within k of it, empty space counting as 0. */
 vbl_result vbl_majorant_grid_dilate(const vbl_majorant_grid* src, const int k[3], vbl_majorant_grid* out);
+/* Builds (or rebuilds) the coarse level of a grid from its blocks; build and dilate call it. */
+vbl_result vbl_majorant_grid_build_coarse(vbl_majorant_grid* grid);
 
 #ifdef __cplusplus
 }
