@@ -51,8 +51,10 @@ case "$mode" in
     ctest --test-dir build --output-on-failure -j"$jobs"
     # Second build with AddressSanitizer + UndefinedBehaviorSanitizer; long statistical renders
     # (label 'slow') and the documentation checks (label 'docs', no C code) run only in the
-    # optimized build above.
-    build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF -DVBL_GENERATORS_FROM="$PWD/build"
+    # optimized build above, so this build leaves out the slow tests' executables
+    # (VBL_BUILD_SLOW_TESTS=OFF), the benchmarks, and reuses the data generators.
+    build build-asan -DVBL_SANITIZE=ON -DVBL_BUILD_BENCH=OFF -DVBL_BUILD_SLOW_TESTS=OFF \
+      -DVBL_GENERATORS_FROM="$PWD/build"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --test-dir build-asan --output-on-failure -j"$jobs" -LE "slow|docs"
     ;;

@@ -51,7 +51,10 @@ static int vbl_render_fail(vbl_progress* progress, vbl_result r)
 /* One output file (one frame). */
 static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
 {
-    const double frame_start = vbl_render_now(); /* --time-limit counts from here, loading included */
+    /* --time-limit counts from here, loading included; the first frame's from the process start */
+    static int first_frame = 1;
+    const double frame_start = vbl_render_now() - (first_frame ? vbl_process_seconds() : 0.0);
+    first_frame = 0;
     vbl_render_output* output = NULL;
     vbl_result r = vbl_render_output_create(args, &output);
     if (r) return vbl_render_fail(progress, r);

@@ -108,5 +108,7 @@ const volatile int* vbl_render_cancel_pointer(void);
 
 /* Monotonic clock in seconds. */
 double vbl_render_now(void);
+/* Seconds since this process started (Linux /proc/self/stat; 0 when unknown). */
+double vbl_process_seconds(void);
 
 #endif

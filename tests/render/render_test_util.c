@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "temp_scene.h"
 #include "volume_test_grid.h"
 
 void rt_make_temp_dir(char* out)
@@ -28,18 +29,30 @@ void rt_write_file(const char* dir, const char* name, const char* text, char* ou
     fclose(f);
 }
 
-vbl_result rt_load_lit_box_scene(const char* dir, int w, int h, double density_scale, vbl_scene** scene)
+vbl_scene* rt_lit_box;
+static char rt_lit_box_path[512];
+
+int rt_lit_box_setup(int w, int h, double density_scale)
 {
-    char path[512], text[8192];
     const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    snprintf(text, sizeof text,
-             "{\"camera\": {\"position\": [0.75, -3, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40, "
-             "\"resolution\": [%d, %d]}, "
-             "\"lights\": [{\"type\": \"distant\", \"direction\": [0, 0, -1], \"irradiance\": [1, 1, 1]}], "
-             "\"media\": [{\"vdb\": \"%s/box.vdb\", \"albedo\": [0.8, 0.8, 0.8], \"density_scale\": %.17g}]}",
-             w, h, fixtures ? fixtures : "tests/fixtures", density_scale);
-    rt_write_file(dir, "scene.json", text, path);
-    return vbl_scene_load(path, scene);
+    if (vbl_test_temp_scene_write(
+            "vbl_lit_box", rt_lit_box_path, sizeof rt_lit_box_path,
+            "{\"camera\": {\"position\": [0.75, -3, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40, "
+            "\"resolution\": [%d, %d]}, "
+            "\"lights\": [{\"type\": \"distant\", \"direction\": [0, 0, -1], \"irradiance\": [1, 1, 1]}], "
+            "\"media\": [{\"vdb\": \"%s/box.vdb\", \"albedo\": [0.8, 0.8, 0.8], \"density_scale\": %.17g}]}",
+            w, h, fixtures ? fixtures : "tests/fixtures", density_scale) != 0)
+        return -1;
+    return vbl_scene_load(rt_lit_box_path, &rt_lit_box) == VBL_SUCCESS ? 0 : -1;
+}
+
+int rt_lit_box_teardown(void** state)
+{
+    (void)state;
+    vbl_scene_release(rt_lit_box);
+    rt_lit_box = NULL;
+    vbl_test_temp_scene_remove(rt_lit_box_path);
+    return 0;
 }
 
 void rt_remove_dir(const char* dir)

@@ -16,10 +16,13 @@ extern char rt_temp_dir[256];
 int rt_temp_dir_setup(void** state);
 int rt_temp_dir_teardown(void** state);
 
-/* Writes dir/scene.json (the fixture box.vdb with albedo 0.8 and `density_scale`, lit from
- * above by a distant light, seen from -y at fov 40 and w x h) and loads it into *scene; returns
- * the load's result. Used by the render-loop tests (cancel, stop phases). */
-vbl_result rt_load_lit_box_scene(const char* dir, int w, int h, double density_scale, vbl_scene** scene);
+/* The group fixture of the render-loop tests (cancel, stop phases): rt_lit_box_setup writes a
+ * scene file (vbl_test_temp_scene_write: the fixture box.vdb with albedo 0.8 and `density_scale`,
+ * lit from above by a distant light, seen from -y at fov 40 and w x h) and loads it into
+ * rt_lit_box, returning 0 or -1; rt_lit_box_teardown releases the scene and removes the file. */
+extern vbl_scene* rt_lit_box;
+int rt_lit_box_setup(int w, int h, double density_scale);
+int rt_lit_box_teardown(void** state);
 
 /* A constant-value box volume: n^3 active voxels of value 1, voxel size h, voxel (0,0,0) at
  * world `origin` (OpenVDB convention: trilinear density 1 on [origin, origin + (n-1) h]^3,

@@ -41,23 +41,12 @@ static void flag_sample(const vbl_render_context* ctx, const void* store, vbl_th
 
 static const vbl_estimator flag_estimator = {"cancel_test", 0, NULL, flag_sample, NULL};
 
-static vbl_scene* g_scene;
-static char g_dir[256];
 
 static int setup(void** state)
 {
     (void)state;
-    rt_make_temp_dir(g_dir);
     /* a medium and a light, so the film has the layers the test estimators write */
-    return rt_load_lit_box_scene(g_dir, W, H, 1, &g_scene) == VBL_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    vbl_scene_release(g_scene);
-    rt_remove_dir(g_dir);
-    return 0;
+    return rt_lit_box_setup(W, H, 1);
 }
 
 static vbl_render_options options(int passes)
@@ -75,7 +64,7 @@ static vbl_film* render_plain(int passes)
     vbl_render_options o = options(passes);
     vbl_film* film = NULL;
     g_cancel_pass = -1;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_SUCCESS);
     return film;
 }
 
@@ -116,7 +105,7 @@ static void test_cancel_mid_pass_drops_the_pass(void** state)
     g_cancel_pass = 2;
     g_cancel_pixel = (uint64_t)(W * H / 2 + 3);
     vbl_film* film = NULL;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
     assert_non_null(film);
     vbl_film_stats s = stats_of(film);
     assert_int_equal(s.passes, 2);
@@ -137,12 +126,12 @@ static void test_cancel_in_first_pass(void** state)
     g_cancel_pass = 0;
     g_cancel_pixel = 17;
     vbl_film* film = (vbl_film*)&film;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
     assert_null(film);
     g_cancel = 1;
     g_cancel_pass = -1;
     film = (vbl_film*)&film;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
     assert_null(film);
     g_cancel = 0;
 }
@@ -157,7 +146,7 @@ static void test_unset_flag_is_identical(void** state)
     g_cancel = 0;
     g_cancel_pass = -1;
     vbl_film* film = NULL;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_SUCCESS);
     assert_int_equal(stats_of(film).discarded_pass, 0);
     assert_same_pixels(film, plain);
     vbl_film_release(film);
@@ -174,10 +163,10 @@ static void test_time_limit_cuts_second_pass(void** state)
     vbl_render_options o = options(4);
     o.time_limit = 1e-12;
     vbl_film* film = (vbl_film*)&film;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_ERROR_INTERRUPTED);
     assert_null(film);
     o.min_passes = 1;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &flag_estimator, &film), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &flag_estimator, &film), VBL_SUCCESS);
     vbl_film_stats s = stats_of(film);
     assert_int_equal(s.passes, 1);
     assert_int_equal(s.time_limited, 1);
@@ -210,7 +199,7 @@ static void test_huge_pass_returns(void** state)
     pthread_t thread;
     assert_int_equal(pthread_create(&thread, NULL, raise_later, NULL), 0);
     vbl_film* film = (vbl_film*)&film;
-    assert_int_equal(vbl_render(g_scene, &o, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render(rt_lit_box, &o, &film), VBL_ERROR_INTERRUPTED);
     assert_null(film);
     pthread_join(thread, NULL);
     g_cancel = 0;
@@ -225,5 +214,5 @@ int main(void)
         cmocka_unit_test(test_time_limit_cuts_second_pass),
         cmocka_unit_test(test_huge_pass_returns),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, rt_lit_box_teardown);
 }

@@ -28,8 +28,6 @@
 #define H 16
 
 static volatile int g_cancel;
-static vbl_scene* g_scene;
-static char g_dir[256];
 
 /* The wrapped estimator (vrl or beams) and what its pass_begin returned per pass. */
 static const vbl_estimator* g_inner;
@@ -77,17 +75,8 @@ static const vbl_estimator wrapped = {"stop_phases_test", 1, wrapped_begin, wrap
 static int setup(void** state)
 {
     (void)state;
-    rt_make_temp_dir(g_dir);
     /* a medium and a light, so the film has the layers the test estimators write */
-    return rt_load_lit_box_scene(g_dir, W, H, 4, &g_scene) == VBL_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void** state)
-{
-    (void)state;
-    vbl_scene_release(g_scene);
-    rt_remove_dir(g_dir);
-    return 0;
+    return rt_lit_box_setup(W, H, 4);
 }
 
 static vbl_render_options options(vbl_render_method method, int passes, int light_paths)
@@ -140,7 +129,7 @@ static void run_cancel_in_light_tracing(vbl_render_method method, const vbl_esti
     g_inner = inner;
     vbl_render_options o = options(method, 1, 400);
     vbl_film* one = NULL;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &wrapped, &one), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &wrapped, &one), VBL_SUCCESS);
     assert_int_equal(g_begin_result[0], VBL_SUCCESS);
 
     reset();
@@ -148,7 +137,7 @@ static void run_cancel_in_light_tracing(vbl_render_method method, const vbl_esti
     o.cancel = &g_cancel;
     g_cancel_pass = 1;
     vbl_film* film = NULL;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &wrapped, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &wrapped, &film), VBL_ERROR_INTERRUPTED);
     assert_int_equal(g_begin_result[0], VBL_SUCCESS);
     assert_int_equal(g_begin_result[1], VBL_ERROR_INTERRUPTED);
     assert_int_equal((int)g_begin_result[2], -1); /* never started */
@@ -186,7 +175,7 @@ static void test_other_thread_stops_huge_light_tracing(void** state)
     o.cancel = &g_cancel;
     g_thread_pass = 0;
     vbl_film* film = (vbl_film*)&film;
-    assert_int_equal(vbl_render_with_estimator(g_scene, &o, &wrapped, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render_with_estimator(rt_lit_box, &o, &wrapped, &film), VBL_ERROR_INTERRUPTED);
     assert_int_equal(g_begin_result[0], VBL_ERROR_INTERRUPTED);
     assert_null(film);
     assert_non_null(strstr(vbl_last_error_message(), "light tracing"));
@@ -202,7 +191,7 @@ static void test_time_limit_stops_first_pass(void** state)
     vbl_render_options o = options(VBL_RENDER_VRL, 3, 20000000);
     o.time_limit = 1e-9;
     vbl_film* film = (vbl_film*)&film;
-    assert_int_equal(vbl_render(g_scene, &o, &film), VBL_ERROR_INTERRUPTED);
+    assert_int_equal(vbl_render(rt_lit_box, &o, &film), VBL_ERROR_INTERRUPTED);
     assert_null(film);
     assert_non_null(strstr(vbl_last_error_message(), "time limit"));
 }
@@ -282,5 +271,5 @@ int main(void)
         cmocka_unit_test(test_beam_bvh_build_stops),
         cmocka_unit_test(test_vrl_tree_build_stops),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, setup, rt_lit_box_teardown);
 }

@@ -1,7 +1,8 @@
 /* Shared helpers of the surface render tests (test_surface_render_agreement.c,
- * test_surface_caustics.c, test_surface_blue_noise.c): layer names, a quad mesh, layer sums and
- * the layers-sum-to-beauty check, rendering with an estimator. Header-only (static); include after
- * cmocka.h. */
+ * test_surface_caustics.c, test_surface_blue_noise.c) and pt's per-layer agreement tests
+ * (tests/render/test_render_pt_core.c, _sampler.c, _equiangular.c): layer names, a quad mesh,
+ * layer sums and the layers-sum-to-beauty check, per-layer means over independent renders,
+ * rendering with an estimator. Header-only (static); include after cmocka.h. */
 #ifndef VBL_TEST_SURFACE_RENDER_UTIL_H
 #define VBL_TEST_SURFACE_RENDER_UTIL_H
 
@@ -67,6 +68,34 @@ static inline double check_sum_to_beauty(const vbl_film* film)
         }
     assert_true(tt_film_finite(film));
     return total;
+}
+
+/* One of layer_stats's renders: the film of `scene` under the caller's `config` with `seed`. */
+typedef vbl_film* (*layer_stats_render)(const vbl_scene* scene, const void* config, uint64_t seed);
+
+/* Image means (per pixel, R+G+B) of every layer over `renders` independent films
+ * render(scene, config, seed0 + 7919 k), k = 0 .. renders - 1, each checked to sum to its beauty
+ * (check_sum_to_beauty): the mean and its standard error per layer. */
+static inline void layer_stats(layer_stats_render render, const vbl_scene* scene, const void* config, int renders,
+                               uint64_t seed0, double mean[VBL_CLASS_COUNT], double se[VBL_CLASS_COUNT])
+{
+    double s[VBL_CLASS_COUNT] = {0}, s2[VBL_CLASS_COUNT] = {0};
+    for (int k = 0; k < renders; ++k) {
+        vbl_film* film = render(scene, config, seed0 + 7919u * (uint64_t)k);
+        check_sum_to_beauty(film);
+        const int pixels = vbl_film_width(film) * vbl_film_height(film);
+        for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+            double m = layer_total(film, layer_names[l]) / pixels;
+            s[l] += m;
+            s2[l] += m * m;
+        }
+        vbl_film_release(film);
+    }
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        mean[l] = s[l] / renders;
+        double var = (s2[l] - renders * mean[l] * mean[l]) / (renders - 1);
+        se[l] = sqrt(fmax(var, 0.0) / renders);
+    }
 }
 
 /* Renders with estimator est (tt_options plus threads and max_bounces); fails the test on error. */
