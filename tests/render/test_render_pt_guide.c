@@ -276,31 +276,10 @@ static void test_cache_absorbing_box(void** state)
     vt_free(vol);
 }
 
-/* Image means (per pixel, R+G+B) of every layer over K renders: mean and standard error. */
-static void layer_stats(const vbl_scene* scene, int guided, uint64_t seed0, double mean[VBL_CLASS_COUNT],
-                        double se[VBL_CLASS_COUNT], double* cpu)
+/* layer_stats's render (surface_render_util.h): config points at the `guided` flag. */
+static vbl_film* render_guided_or_plain(const vbl_scene* scene, const void* config, uint64_t seed)
 {
-    double s[VBL_CLASS_COUNT] = {0}, s2[VBL_CLASS_COUNT] = {0};
-    for (int k = 0; k < K; ++k) {
-        vbl_film* film = render_pt(scene, guided, 0, 4, 4, seed0 + 7919u * (uint64_t)k, 2, 8);
-        check_sum_to_beauty(film);
-        vbl_film_stats st;
-        memset(&st, 0, sizeof st);
-        st.size = sizeof st;
-        vbl_film_get_stats(film, &st);
-        *cpu += st.render_seconds;
-        for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-            double m = layer_total(film, layer_names[l]) / (W * H);
-            s[l] += m;
-            s2[l] += m * m;
-        }
-        vbl_film_release(film);
-    }
-    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-        mean[l] = s[l] / K;
-        double var = (s2[l] - K * mean[l] * mean[l]) / (K - 1);
-        se[l] = sqrt(fmax(var, 0.0) / K);
-    }
+    return render_pt(scene, *(const int*)config, 0, 4, 4, seed, 2, 8);
 }
 
 static void test_guided_agrees_per_layer(void** state)
@@ -308,9 +287,9 @@ static void test_guided_agrees_per_layer(void** state)
     (void)state;
     guide_case c = make_case();
     double m_on[VBL_CLASS_COUNT], se_on[VBL_CLASS_COUNT], m_off[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
-    double t_on = 0.0, t_off = 0.0;
-    layer_stats(c.scene, 1, 11, m_on, se_on, &t_on);
-    layer_stats(c.scene, 0, 22, m_off, se_off, &t_off);
+    const int on = 1, off = 0;
+    layer_stats(render_guided_or_plain, c.scene, &on, K, 11, m_on, se_on);
+    layer_stats(render_guided_or_plain, c.scene, &off, K, 22, m_off, se_off);
     int checked = 0;
     for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
         double se = sqrt(se_on[l] * se_on[l] + se_off[l] * se_off[l]);
@@ -322,7 +301,6 @@ static void test_guided_agrees_per_layer(void** state)
         assert_true(fabs(z) <= Z_CRIT);
         ++checked;
     }
-    printf("render seconds: guided %.2f, plain %.2f\n", t_on, t_off);
     assert_true(checked >= 3);
     free_case(&c);
 }
