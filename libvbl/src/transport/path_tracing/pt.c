@@ -156,7 +156,7 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
     double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
-    if (!(T > 0.0)) return;
+    if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
         const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
@@ -192,7 +192,7 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     if (!(vbl_v3_max_component(f) > 0.0)) return;
     vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, ls.wi);
     double T = vbl_ctx_transmittance(ctx, ts, origin, ls.wi, ls.distance, rng);
-    if (!(T > 0.0)) return;
+    if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
     if (!ls.is_delta)
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,

@@ -156,9 +156,9 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, cos_theta);
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
     double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, seg.t0, t, &ctx->tracking, rng);
-    if (!(T_camera > 0.0)) return;
+    if (T_camera == 0.0) return; /* negative estimates kept (unbiased) */
     double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
-    if (!(T_light > 0.0)) return;
+    if (T_light == 0.0) return;
     double q, w;
     if (quad) {
         double nee, phase, eq;
