@@ -202,7 +202,11 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
       "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
       "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \
-      "the collision's NEE and phase sampling)")
+      "the collision's NEE and phase sampling)")                                                           \
+    X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
+      NULL, HASH,                                                                                            \
+      "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \
+      "K distances stratified along the ray instead of the first collision's NEE (1: the collision)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
