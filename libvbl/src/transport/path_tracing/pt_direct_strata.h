@@ -2,21 +2,25 @@
  *
  * The camera segment's single scattering from a delta light l (the volume_direct class),
  *   I_l = int_t0^t1 T(t0, t) K(t, w_l) L_l(t) T_l(t) dt     (K = sum sigma_s p, the kernel),
- * is estimated with K distances stratified in the CDF of a free-flight proxy instead of the one
- * delta-tracking collision's NEE (the distance-sampling view of Kulla and Fajardo 2012, sec. 4,
- * with stratification in the CDF, sec. 4.3 "Stratification"). The proxy is the control density
- * of the majorant segments, c(t) = (majorant + minorant) / 2 (volume/control_depth.h; exact in
- * homogeneous segments), truncated to the media interval [t0, t1]:
- *   p(t) = c(t) exp(-tau_c(t0, t)) / (1 - exp(-tau_c(t0, t1))),
- * inverted analytically segment by segment at u_k = (k + xi_k) / K. Each sample is weighted by
- *   T^(t_k) K(t_k, w) L T^_l / (K p(t_k) / N_s)      (a delta light picked among the N_s),
- * with T^(t_k) read from one ratio-tracking pass along the camera ray (the cached ratio
- * estimator, volume/transmittance_cache.h; Novak et al. 2014, eq. 6, as a step function in t:
- * Novak, Georgiev, Hanika and Jarosz 2018, "Monte Carlo methods for volumetric light transport
- * simulation", sec. 6.2, eq. 29, the ratio-tracking estimator of T; its tentative points are a
- * Poisson process independent of the t_k, so E[T^(t_k) | t_k] = T(t0, t_k)) and T^_l the NEE's
- * shadow transmittance (pt.shadow_transmittance). p > 0 wherever sigma_t can be (c >= majorant / 2),
- * and each stratum k contributes int over its CDF slice, so the sum is unbiased.
+ * is estimated from K NEE points instead of the one delta-tracking collision's NEE:
+ *  1. one ratio-tracking walk along the camera ray over the media interval (tentative points p_i
+ *     at the majorant rate mu_i, twice the majorant in homogeneous blocks; Novak et al. 2014,
+ *     eq. 6) gives each point the weight w_i = T^_{i-1} sigma_s(p_i) / mu_i, T^_{i-1} the product
+ *     of (1 - sigma_t / mu) before p_i. Summing w_i f(p_i) is the null-collision estimator of
+ *     int T sigma_s f dt (Novak, Georgiev, Hanika and Jarosz 2018, "Monte Carlo methods for
+ *     volumetric light transport simulation", sec. 5.2 and 6.2, the ratio-tracking form of
+ *     the collision estimator; the points are a Poisson process, so by Campbell's theorem
+ *     E[sum_i w_i f(p_i)] = int T sigma_s f dt); the walk ends at the roulette (threshold 0.1)
+ *     or past 256 points with one delta-tracking collision from the last (the collision
+ *     estimator, weight T^ sigma_s / sigma_t);
+ *  2. K points are picked from the discrete distribution w_i / W (W = sum w_i), one per stratum
+ *     [k, k + 1) / K of its CDF (stratified resampling, as in Kulla and Fajardo 2012, sec. 4.3,
+ *     distance samples stratified along the ray), and each gets the NEE of a delta light picked
+ *     among the N_s fed here: (W / K) (K(p, w) / sigma_s(p)) L T^_l N_s, T^_l the NEE's shadow
+ *     transmittance (pt.shadow_transmittance). Every pick has marginal probability w_i / W, so the
+ *     sum is unbiased for sum_i w_i f(p_i), hence for I_l.
+ * The medium's part (T sigma_s) is thus carried exactly by the weights; only the light term
+ * (phase, T_l) is sampled, and every camera ray through media gets K NEEs, collision or not.
  *
  * The lights it feeds: distant lights, and point/spot lights when pt.equiangular is off (with it
  * on they keep the equiangular / collision MIS, pt_equiangular.h). For those lights the first
