@@ -8,7 +8,8 @@
  *
  * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
  * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
- * tr_mid*: pt.shadow_transmittance = residual-mid; every other row sets it to render), eq_quads /
+ * tr_mid*: pt.shadow_transmittance = residual-mid; tr_um*: unbiased-march; every other row sets it
+ * to render), eq_quads /
  * eq_quads_mid (pt.equiangular_quads on).
  * Every configuration renders --spp passes of 1 sample per pixel with the same seed. Per layer it
  * prints rMAE (sum |I - Iref| / sum |Iref|) and rMAE scaled to the first configuration's CPU time,
@@ -61,6 +62,11 @@ static const bench_config bench_configs[] = {
     /* issue 14 item 1: quad lights in the equiangular NEE (pt.equiangular_quads) */
     {"eq_quads", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RENDER, 1},
     {"eq_quads_mid", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},
+    /* issue 14 item 4: unbiased ray marching (pt.shadow_transmittance = unbiased-march); the
+     * majorant scale multiplies the march density at the camera-visible vertex */
+    {"tr_um", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
+    {"tr_um_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
+    {"tr_um_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
 };
 #define BENCH_CONFIG_COUNT ((int)(sizeof bench_configs / sizeof bench_configs[0]))
 

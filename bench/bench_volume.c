@@ -1,7 +1,8 @@
 /* bench_volume [FILE.vdb] [--density-scale S] [--gap]: density lookups/s (PNanoVDB trilinear vs OpenVDB
  * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
  * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads, and ratio /
- * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale). */
+ * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale); --gap adds unbiased
+ * ray marching (transmittance_unbiased_march.h) at several march densities. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -11,6 +12,7 @@
 
 #include "core/rng.h"
 #include "volume/transmittance_cache.h"
+#include "volume/transmittance_unbiased_march.h"
 
 double vbl_bench_openvdb_lookups(const char* path, const char* grid_name, const double* points, size_t n,
                                  double* checksum);
@@ -72,6 +74,8 @@ static void make_rays(const vbl_volume_info* info, bench_ray* rays, int n)
 
 static double g_majorant_scale = 1.0; /* vbl_tracking_settings.majorant_scale of run_estimator */
 static int g_residual_mid = 0;        /* vbl_tracking_settings.residual_mid of run_estimator */
+static int g_unbiased = 0;            /* 1: run_estimator runs unbiased ray marching with g_um */
+static vbl_unbiased_march_params g_um;
 
 /* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
 static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, int nrays, int spr,
@@ -85,14 +89,17 @@ static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, in
     {
         vbl_extinction_cursor cur;
         vbl_extinction_cursor_init(&cur, ext);
-        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0, g_residual_mid};
+        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0, g_residual_mid, 0};
 #pragma omp for schedule(dynamic, 4)
         for (int r = 0; r < nrays; ++r) {
             double s = 0.0, s2 = 0.0;
             for (int k = 0; k < spr; ++k) {
                 vbl_rng rng = vbl_rng_make(77, (uint64_t)r, (uint64_t)k);
                 double x;
-                if (est == VBL_TRANSMITTANCE_CACHED_DELTA || est == VBL_TRANSMITTANCE_CACHED_RATIO) {
+                if (g_unbiased) {
+                    x = vbl_transmittance_unbiased_march(ext, &cur, rays[r].o, rays[r].d, 0.0, rays[r].t1, use_global,
+                                                         &g_um, &rng);
+                } else if (est == VBL_TRANSMITTANCE_CACHED_DELTA || est == VBL_TRANSMITTANCE_CACHED_RATIO) {
                     vbl_transmittance_cache cache;
                     vbl_transmittance_cache_build(&cache, est, ext, &cur, rays[r].o, rays[r].d, 0.0, rays[r].t1, 16,
                                                   use_global, &rng);
@@ -185,6 +192,26 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
         }
         g_residual_mid = 0;
         g_majorant_scale = 1.0;
+        /* issue 14 item 4: unbiased ray marching (Kettunen et al. 2021) at several march densities
+         * (points per unit residual optical depth; the pilot at the same density or half) */
+        const double um_rates[][3] = {{1, 1, 1}, {2, 2, 1}, {4, 4, 1}, {8, 8, 1}, {16, 16, 1}, {4, 2, 1}, {4, 4, 0.5}};
+        for (size_t e = 0; e < sizeof um_rates / sizeof um_rates[0]; ++e) {
+            double var = 0, mt = 0, lq = 0, s1 = 1e300;
+            g_unbiased = 1;
+            g_um = vbl_unbiased_march_defaults(1.0);
+            g_um.rate = um_rates[e][0];
+            g_um.pilot_rate = um_rates[e][1];
+            g_um.theta = um_rates[e][2];
+            for (int rep = 0; rep < 3; ++rep) {
+                double s = run_estimator(&ext, rays, nrays, 16, VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 1, &var, &mt, &lq);
+                if (s < s1) s1 = s;
+            }
+            g_unbiased = 0;
+            double q = (double)nrays * 16 / s1, limit = raw / fmax(lq, 1e-9);
+            printf("| %s (scale %.3g) | unbiased-march rate %g pilot %g theta %g | %.4f | %.3g | %.2f | %.4g | %.4g | %.2f | %.3g |\n",
+                   thin ? "thin" : "thick", thin ? 0.25 * scale : scale, g_um.rate, g_um.pilot_rate, g_um.theta, mt, var,
+                   lq, q, limit, limit / q, var > 0 ? q / var : 0.0);
+        }
     }
     free(rays);
     return 0;

@@ -25,3 +25,12 @@ target_compile_definitions(bench_vrl_tail PRIVATE
 if(TARGET vbl_sample_cloud)
   add_dependencies(bench_vrl_tail vbl_sample_cloud)
 endif()
+# Issue 13 (energy): replicas through the public API (bench_vrl_energy) and per-VRL energies and
+# light-tree selection moments (bench_vrl_energy_vrls); results in bench/results/vrl_energy_issue13.txt.
+add_executable(bench_vrl_energy ${CMAKE_CURRENT_LIST_DIR}/bench_vrl_energy.c)
+set_target_properties(bench_vrl_energy PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+target_link_libraries(bench_vrl_energy PRIVATE vbl_static m)
+add_executable(bench_vrl_energy_vrls ${CMAKE_CURRENT_LIST_DIR}/bench_vrl_energy_vrls.c)
+set_target_properties(bench_vrl_energy_vrls PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+target_link_libraries(bench_vrl_energy_vrls PRIVATE vbl_static m)
+target_include_directories(bench_vrl_energy_vrls PRIVATE ${PROJECT_SOURCE_DIR}/libvbl/src)

@@ -1,5 +1,6 @@
 /* pt's core switches of issue 14 (items 4 and 1): pt.shadow_transmittance = residual-mid
- * (residual ratio tracking with the mid-bound control on pt's transmittance estimates) and
+ * (residual ratio tracking with the mid-bound control on pt's transmittance estimates) or
+ * unbiased-march (unbiased ray marching, Kettunen et al. 2021; its estimates may be negative) and
  * pt.equiangular_quads (quad lights in the equiangular NEE, three-strategy MIS) in a
  * heterogeneous medium among Lambert surfaces lit by a point, a quad and a distant light:
  *   - quick group: bit-identical at 1 and 2 threads, and different from the default (the option
@@ -83,7 +84,8 @@ static vbl_film* render_pt(const vbl_scene* scene, const core_config* cfg, int p
 
 static const core_config cfg_default = {"ratio, no quads", VBL_PT_SHADOW_RENDER, 0};
 static const core_config cfg_mid = {"shadow residual-mid", VBL_PT_SHADOW_RESIDUAL_MID, 0};
-/* the defaults (0: residual-mid, quads on) are the two switches together */
+static const core_config cfg_um = {"shadow unbiased-march", VBL_PT_SHADOW_UNBIASED_MARCH, 0};
+/* the defaults (0: unbiased-march, quads on) are the two switches together */
 static const core_config cfg_quads = {"equiangular quads", VBL_PT_SHADOW_RENDER, 1};
 
 static void check_deterministic_and_active(const core_config* cfg)
@@ -114,6 +116,12 @@ static void test_shadow_mid_deterministic(void** state)
 {
     (void)state;
     check_deterministic_and_active(&cfg_mid);
+}
+
+static void test_shadow_um_deterministic(void** state)
+{
+    (void)state;
+    check_deterministic_and_active(&cfg_um);
 }
 
 static void test_equiangular_quads_deterministic(void** state)
@@ -172,6 +180,14 @@ static void test_shadow_mid_agrees_per_layer(void** state)
     check_agrees(&cfg_mid, 0);
 }
 
+/* unbiased ray marching against the render's ratio tracking: surface_direct (the point and
+ * distant lights' shadow rays through the sphere) is among the checked layers */
+static void test_shadow_um_agrees_per_layer(void** state)
+{
+    (void)state;
+    check_agrees(&cfg_um, 0);
+}
+
 static void test_equiangular_quads_agree_per_layer(void** state)
 {
     (void)state;
@@ -183,10 +199,12 @@ int main(int argc, char** argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shadow_mid_deterministic),
+        cmocka_unit_test(test_shadow_um_deterministic),
         cmocka_unit_test(test_equiangular_quads_deterministic),
     };
     const struct CMUnitTest agreement[] = {
         cmocka_unit_test(test_shadow_mid_agrees_per_layer),
+        cmocka_unit_test(test_shadow_um_agrees_per_layer),
         cmocka_unit_test(test_equiangular_quads_agree_per_layer),
     };
     if (argc > 1 && !strcmp(argv[1], "agreement")) return cmocka_run_group_tests(agreement, NULL, NULL);

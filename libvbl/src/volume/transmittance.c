@@ -37,6 +37,7 @@
 #include <math.h>
 
 #include "volume/transmittance_cache.h"
+#include "volume/transmittance_unbiased_march.h"
 
 #define VBL_RR_THRESHOLD 0.1
 /* Majorant factor of the ratio-tracking cache in homogeneous segments (see vbl_ratio_track_record). */
@@ -258,6 +259,11 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 1.0;
+    if (settings->unbiased_march) {
+        const vbl_unbiased_march_params p = vbl_unbiased_march_defaults(settings->majorant_scale);
+        return vbl_transmittance_unbiased_march(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant,
+                                                &p, rng);
+    }
     switch (settings->estimator) {
     case VBL_TRANSMITTANCE_RAY_MARCHING:
         return vbl_ray_march(ext, cursor, origin, direction, t0, t1, settings, rng);

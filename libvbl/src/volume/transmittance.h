@@ -21,6 +21,10 @@ typedef struct vbl_tracking_settings {
      * minorant, rate majorant - minorant; 1 the mid-bound c = (majorant + minorant) / 2, rate
      * (majorant - minorant) / 2 = max |sigma_t - c| (factors 1 - (sigma_t - c) / mu in [0, 2]). */
     int residual_mid;
+    /* 1: every estimator above is replaced by unbiased ray marching (transmittance_unbiased_march.h,
+     * issue 14 item 4; pt.shadow_transmittance = unbiased-march); majorant_scale > 1 multiplies its
+     * march density. 0 (older initializers): off. */
+    int unbiased_march;
 } vbl_tracking_settings;
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached

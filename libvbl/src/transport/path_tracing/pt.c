@@ -229,9 +229,15 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * majorant (their noise is dominated by the path, not by T) */
     /* options.pt.shadow_transmittance: pt's transmittance estimates (NEE shadow rays, the
      * equiangular sample's segment) by residual ratio tracking with the mid-bound control
-     * (volume/transmittance.h); free flights are unaffected */
+     * (volume/transmittance.h) or unbiased ray marching (transmittance_unbiased_march.h); free
+     * flights are unaffected */
     vbl_render_context shadow_ctx;
-    if (ctx->options.pt.shadow_transmittance != VBL_PT_SHADOW_RENDER) { /* residual-mid, the default */
+    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH ||
+        ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_DEFAULT) { /* unbiased-march, the default */
+        shadow_ctx = *ctx;
+        shadow_ctx.tracking.unbiased_march = 1;
+        ctx = &shadow_ctx;
+    } else if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_RESIDUAL_MID) {
         shadow_ctx = *ctx;
         shadow_ctx.tracking.estimator = VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
         shadow_ctx.tracking.residual_mid = 1;

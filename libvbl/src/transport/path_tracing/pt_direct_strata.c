@@ -149,7 +149,7 @@ void vbl_pt_direct_strata(const vbl_render_context* ctx, vbl_thread_state* ts, v
         vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, ls.wi));
         if (!(vbl_v3_max_component(kernel) > 0.0)) continue;
         double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
-        if (!(T_light > 0.0)) continue;
+        if (T_light == 0.0) continue; /* unbiased-march estimates may be negative: kept (unbiased) */
         /* (W / K) (kernel / sigma_s) L T_l / (pdf / N_s); ls.pdf is 1 for the delta lights fed here */
         double s = W * T_light * n_lights / (count * ss * ls.pdf);
         if (!isfinite(s)) continue;

@@ -1,0 +1,36 @@
+/* Unbiased ray-marching transmittance (Kettunen, d'Eon, Pantaleoni and Novak 2021, "An Unbiased
+ * Ray-Marching Transmittance Estimator", secs. 3-5): T = exp(-tau) expanded as a power series
+ * around a control optical depth tau_c, each factor an independent stratified (jittered) marched
+ * estimate of tau, the series cut by Russian roulette. Unbiased, finite, and it may be negative
+ * (documented in docs/readme/sampling.md "Shadow-ray transmittance"). */
+#ifndef VBL_VOLUME_TRANSMITTANCE_UNBIASED_MARCH_H
+#define VBL_VOLUME_TRANSMITTANCE_UNBIASED_MARCH_H
+
+#include "core/rng.h"
+#include "volume/extinction.h"
+
+/* Points per unit of a segment's residual optical depth (majorant - minorant) / 2 x length: the
+ * march's density (default of vbl_unbiased_march_params.rate; measured in
+ * bench/results/shadow_tx_issue14.txt). */
+#define VBL_UNBIASED_MARCH_RATE 4.0
+/* Most points of one marched estimate in one majorant segment (bounds the work in dense media;
+ * the estimate stays unbiased, only its variance grows). */
+#define VBL_UNBIASED_MARCH_MAX_POINTS 32
+
+typedef struct vbl_unbiased_march_params {
+    double rate;       /* > 0: points per unit residual optical depth of the factors' marches */
+    double pilot_rate; /* > 0: the same for the control's (pilot) march */
+    int max_points;    /* >= 1: per segment and estimate */
+    double theta;      /* > 0: roulette scale: after factor k continue with min(1, |D_k| / (theta (k + 1))) */
+} vbl_unbiased_march_params;
+
+/* The defaults (rate = pilot_rate = VBL_UNBIASED_MARCH_RATE x `scale` for scale > 1, else x 1). */
+vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale);
+
+/* One estimate of T(t0, t1) along origin + t direction; `direction` must be unit
+ * (vbl_unit_ray). Deterministic per rng stream; counts its lookups in the cursor. */
+double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                        vbl_vec3 direction, double t0, double t1, int use_global_majorant,
+                                        const vbl_unbiased_march_params* params, vbl_rng* rng);
+
+#endif
