@@ -212,7 +212,11 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_guide_cells, guide_cells, int, INT, "pt.guide_cells", "--pt-guide-cells", 16, 1, 128, 0, NULL, \
       HASH, "pt.guided_rr: radiance cache cells per axis over the media's bounds")                          \
     X(pt., pt_guide_paths, guide_paths, int, INT, "pt.guide_paths", "--pt-guide-paths", 8, 1, 4096, 0, NULL, \
-      HASH, "pt.guided_rr: pre-pass paths per radiance cache cell (and per 8x8 pixel block, twice as many)")
+      HASH, "pt.guided_rr: pre-pass paths per radiance cache cell (and per 8x8 pixel block, twice as many)") \
+    X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
+      NULL, HASH,                                                                                            \
+      "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \
+      "K distances stratified along the ray instead of the first collision's NEE (1: the collision)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

@@ -33,6 +33,7 @@
 #include "media/medium.h"
 #include "media/medium_grids.h"
 #include "transport/common/emission_estimate.h"
+#include "transport/path_tracing/pt_direct_strata.h"
 #include "transport/path_tracing/pt_equiangular.h"
 #include "transport/path_tracing/pt_guide.h"
 
@@ -152,6 +153,7 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double select_pdf;
     const vbl_light* light = NULL;
     if (!vbl_pt_pick_light(scene, x, dims, path->events, rng, &ls, &select_pdf, &light)) return;
+    if (path->events == 1 && vbl_pt_direct_strata_skips(ctx, light)) return; /* pt_direct_strata.h */
     double cos_theta = vbl_v3_dot(travel, ls.wi);
     vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
@@ -231,6 +233,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     double components[VBL_MAX_MEDIA] = {0};
     vbl_pt_path path = {0, 0, -1};
     const int equiangular = vbl_pt_equiangular_active(ctx);
+    const int direct_strata = vbl_pt_direct_strata_active(ctx);
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
     vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
@@ -291,6 +294,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double t_limit = collided ? t : t_surface;
         vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
                                   has_eq_vertex ? &eq_vertex : NULL, beta, out);
+        if (direct_strata && path.events == 0) /* the camera segment's single scattering, stratified */
+            vbl_pt_direct_strata(nee_ctx, ts, origin, direction, t_surface, beta, rng,
+                                 &out->L[VBL_CLASS_VOLUME_DIRECT]);
         if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
             /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
             vbl_pt_path next = path;
