@@ -168,7 +168,7 @@ int vbl_option_assign_number(vbl_render_options* o, int index, double v, int str
     return 0;
 }
 
-/* hybrid.pt_classes as text: comma-separated layer names (vbl_transport_class_parse) -> the bit mask. */
+/* hybrid_pt_classes as text: comma-separated layer names (vbl_transport_class_parse) -> the bit mask. */
 static int vbl_option_assign_classes(vbl_render_options* o, int index, const char* text, int strict, char* why,
                                      size_t size)
 {
