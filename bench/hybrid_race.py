@@ -23,8 +23,8 @@ SCENES = ["race_room", "race_cloud", "race_spot_smoke"]
 LAYERS = ["beauty", "surface_direct", "surface_from_surface", "surface_from_volume", "volume_direct",
           "volume_from_volume"]
 # (label, method, passes, extra flags)
-CONFIGS = [("pt", "pt", 16, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 4, ["--hybrid", "auto"]),
-           ("vbl+auto", "vbl", 4, ["--hybrid", "auto"]), ("vpl+auto", "vpl", 2, ["--hybrid", "auto"])]
+CONFIGS = [("pt", "pt", 32, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 4, ["--hybrid", "auto"]),
+           ("vbl+auto", "vbl", 4, ["--hybrid", "auto"]), ("vpl+auto", "vpl", 1, ["--hybrid", "auto"])]
 
 
 def run(vbl, scene, out, method, passes, seed, res, extra):

@@ -25,8 +25,9 @@
 typedef struct vbl_hybrid_pilot_stats {
     double pt_variance[VBL_CLASS_COUNT]; /* relative variance of one pt sample (sum over pilot pixels) */
     double vl_variance[VBL_CLASS_COUNT]; /* relative variance of one method pass (spp samples) */
-    double pt_cost, vl_cost;             /* cost units (density lookups + VBL_HYBRID_RAY_COST per camera
-                                            sample) per pt sample / per method pass of one pixel */
+    double pt_cost, vl_cost;             /* cost units (density lookups, VBL_HYBRID_RAY_COST per ray
+                                            cast, VBL_HYBRID_SAMPLE_COST per camera sample) per pt
+                                            sample / per method pass of one pixel */
 } vbl_hybrid_pilot_stats;
 
 /* What a hybrid render does (fixed for the whole render, for every pass range). */
@@ -52,13 +53,14 @@ vbl_result vbl_hybrid_plan_make(const vbl_render_context* ctx, const vbl_estimat
  * to the estimator with the smaller relative variance x cost; zero-energy classes go to pt when
  * it renders another class. pt_spp: the optimal split n_pt / n_method = sqrt(B C_vl / (A c_pt))
  * of a fixed cost between two independent estimators of sums A (method) and B (pt), rounded,
- * in [1, VBL_HYBRID_MAX_PT_SPP]. Cost is counted, not timed (density lookups plus a fixed
- * VBL_HYBRID_RAY_COST per camera sample for the rays), so the decision is deterministic; light
- * tracing (pass_begin) is not counted. */
-#define VBL_HYBRID_PILOT_PASSES 6
-#define VBL_HYBRID_PILOT_GRID 12
+ * in [1, VBL_HYBRID_MAX_PT_SPP]. Cost is counted, not timed (density lookups, VBL_HYBRID_RAY_COST
+ * per Embree ray cast, vbl_surfaces_ray_count, and VBL_HYBRID_SAMPLE_COST per camera sample), so
+ * the decision is deterministic; light tracing (pass_begin) is not counted. */
+#define VBL_HYBRID_PILOT_PASSES 4
+#define VBL_HYBRID_PILOT_GRID 8
 #define VBL_HYBRID_MAX_PT_SPP 256
-#define VBL_HYBRID_RAY_COST 64.0
+#define VBL_HYBRID_RAY_COST 16.0
+#define VBL_HYBRID_SAMPLE_COST 32.0
 #define VBL_RNG_DOMAIN_HYBRID 0x4859425249445049ull /* "HYBRIDPI" */
 vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* base, vbl_hybrid_plan* plan);
 

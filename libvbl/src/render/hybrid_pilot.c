@@ -40,7 +40,11 @@ static void vbl_pilot_camera_sample(const vbl_render_context* ctx, int px, int p
     }
 }
 
-static uint64_t vbl_pilot_lookups(const vbl_thread_state* ts) { return vbl_extinction_cursor_lookups(&ts->cursor); }
+/* The pilot's cost count of this thread: density lookups + VBL_HYBRID_RAY_COST per ray cast. */
+static uint64_t vbl_pilot_lookups(const vbl_thread_state* ts)
+{
+    return vbl_extinction_cursor_lookups(&ts->cursor) + (uint64_t)VBL_HYBRID_RAY_COST * vbl_surfaces_ray_count();
+}
 
 vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* base, vbl_hybrid_plan* plan)
 {
@@ -145,8 +149,8 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
         pt_lookups += q->pt_lookups;
     }
     free(px);
-    st->vl_cost = (double)vl_lookups / ((double)P * count) + VBL_HYBRID_RAY_COST * spp;
-    st->pt_cost = (double)pt_lookups / (n_pt * count) + VBL_HYBRID_RAY_COST;
+    st->vl_cost = (double)vl_lookups / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp;
+    st->pt_cost = (double)pt_lookups / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
     unsigned mask = 0;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c)
         if (energy[c] > 0.0 && st->pt_variance[c] * st->pt_cost < st->vl_variance[c] * st->vl_cost) mask |= 1u << c;
