@@ -139,7 +139,7 @@ static double layer_mean(const vbl_film* film, int c)
     return s / (double)n;
 }
 
-#define SEEDS 8
+#define SEEDS 6
 
 /* Per class, the image mean of the hybrid vs pt over SEEDS independent renders each: within
  * 4.5 sigma of the difference of the two means. */
