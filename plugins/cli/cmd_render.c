@@ -184,6 +184,21 @@ static int vbl_render_one(const vbl_render_args* args, vbl_progress* progress)
             snprintf(note, sizeof note, "wrote %s (%s, %d of %d passes, %.2f s, %d threads)", args->output, status,
                      done, total, vbl_render_now() - start, stats.threads);
             vbl_progress_note(progress, note);
+            if (stats.hybrid) { /* render.hybrid: the plan as rendered (also the EXR's vbl:hybrid) */
+                size_t n = (size_t)snprintf(note, sizeof note, "hybrid: pt renders");
+                int any = 0;
+                for (int c = 0; c < VBL_CLASS_COUNT && n < sizeof note; ++c)
+                    if (stats.hybrid_pt_classes & (1 << c)) {
+                        n += (size_t)snprintf(note + n, sizeof note - n, "%s%s", any ? "," : " ",
+                                              vbl_transport_class_name((vbl_transport_class)c));
+                        any = 1;
+                    }
+                if (n < sizeof note)
+                    snprintf(note + n, sizeof note - n, "%s with %d sample(s) per %s sample (%s)", any ? "" : " nothing",
+                             stats.hybrid_pt_spp, vbl_render_method_name(stats.method),
+                             stats.hybrid == VBL_HYBRID_AUTO ? "auto" : "classes");
+                vbl_progress_note(progress, note);
+            }
         }
     }
     vbl_progress_done(progress, exit_code ? (exit_code == VBL_EXIT_INTERRUPTED ? "interrupted" : "failed") : status,

@@ -173,6 +173,9 @@ typedef struct vbl_film_stats {
     int first_pass;               /* absolute index of the first pass in this film */
     int discarded_pass;           /* 1: a pass was stopped part way (cancel / time limit) and dropped */
     int transparent;              /* 1: options.transparent (the beauty leaves out `background`) */
+    int hybrid;                   /* options.hybrid (vbl_hybrid_mode); 0: off */
+    int hybrid_pt_classes;        /* hybrid: the classes pt rendered (bit = vbl_transport_class), as chosen */
+    int hybrid_pt_spp;            /* hybrid: pt samples per method camera sample, as chosen */
 } vbl_film_stats;
 
 /* out->size: sizeof(vbl_film_stats), or the size of an older struct (without the fields added

@@ -87,6 +87,13 @@ typedef enum vbl_vrl_connect {
 /* vbl's default light paths per pass. */
 #define VBL_LIGHT_PATHS_DEFAULT_VBL 10
 
+/* Per-class combination of pt with a virtual-light method (render.hybrid; docs/readme/hybrid.md). */
+typedef enum vbl_hybrid_mode {
+    VBL_HYBRID_OFF = 0,     /* the method alone */
+    VBL_HYBRID_CLASSES = 1, /* pt renders hybrid_pt_classes with hybrid_pt_spp samples, the method the rest */
+    VBL_HYBRID_AUTO = 2     /* a deterministic pilot picks the classes and pt_spp */
+} vbl_hybrid_mode;
+
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
 typedef struct vbl_render_progress {
     int pass;               /* passes completed so far (1 after the first) */
@@ -186,7 +193,16 @@ typedef enum vbl_render_option_effect {
     X(, min_passes, min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,         \
       "passes that complete even past time_limit (0: the limit holds for the first pass too)")          \
     X(, motion_blur, motion_blur, int, BOOL, "motion_blur", "--motion-blur", 1, 0, 1, 0, NULL, HASH,        \
-      "velocity motion blur over camera.shutter for media with a velocity grid (pt; 0: the frame's instant)")
+      "velocity motion blur over camera.shutter for media with a velocity grid (pt; 0: the frame's instant)") \
+    X(, hybrid, hybrid, vbl_hybrid_mode, ENUM, "hybrid", "--hybrid", VBL_HYBRID_OFF, 0, 2, 0, "off|classes|auto", \
+      HASH, "vpl, vrl, vbl, beams: pt renders some transport classes, the method the others (classes: "      \
+      "hybrid_pt_classes; auto: a pilot picks them; docs/readme/hybrid.md)")                                  \
+    X(, hybrid_pt_classes, hybrid_pt_classes, int, INT, "hybrid_pt_classes", "--hybrid-pt-classes", 0, 0, 255, 0, \
+      NULL, HASH,                                                                                            \
+      "hybrid = classes: the layers pt renders, comma-separated names (surface_direct,volume_from_volume) or " \
+      "a bit mask (bit = vbl_transport_class)")                                                              \
+    X(, hybrid_pt_spp, hybrid_pt_spp, int, INT, "hybrid_pt_spp", "--hybrid-pt-spp", 1, 1, 4096, 0, NULL, HASH, \
+      "hybrid = classes: pt camera samples per virtual-light camera sample (auto sizes it by the pilot)")
 
 /* pt: options.pt */
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \

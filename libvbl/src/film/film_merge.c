@@ -120,6 +120,10 @@ static vbl_result vbl_merger_check(const vbl_film_merger* m, const vbl_film* fil
                          "light paths %d / %d, seed %llu / %llu)",
                          i, vbl_render_method_name(b->method), vbl_render_method_name(a->method), b->spp, a->spp,
                          b->light_paths, a->light_paths, (unsigned long long)b->seed, (unsigned long long)a->seed);
+    if (a->hybrid != b->hybrid || a->hybrid_pt_classes != b->hybrid_pt_classes || a->hybrid_pt_spp != b->hybrid_pt_spp)
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
+                         "vbl_film_merge: film %d's hybrid plan (pt classes 0x%x, pt_spp %d) is not film 0's (0x%x, %d)", i,
+                         (unsigned)b->hybrid_pt_classes, b->hybrid_pt_spp, (unsigned)a->hybrid_pt_classes, a->hybrid_pt_spp);
     if (a->transparent != b->transparent)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_film_merge: film %d is %s, film 0 is %s", i,
                          b->transparent ? "transparent" : "opaque", a->transparent ? "transparent" : "opaque");

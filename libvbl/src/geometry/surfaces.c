@@ -275,10 +275,16 @@ static void vbl_fill_ray(struct RTCRay* ray, vbl_vec3 o, vbl_vec3 d, double t_mi
     ray->flags = 0;
 }
 
+/* Ray casts of this thread (vbl_surfaces_ray_count). */
+static _Thread_local uint64_t vbl_thread_rays;
+
+uint64_t vbl_surfaces_ray_count(void) { return vbl_thread_rays; }
+
 int vbl_surfaces_intersect(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 direction, double t_min, double t_max,
                            vbl_surface_hit* hit)
 {
     if (!s || s->count == 0 || !(t_max > t_min)) return 0;
+    ++vbl_thread_rays;
     struct RTCRayHit rh;
     vbl_fill_ray(&rh.ray, origin, direction, t_min, t_max);
     if (!(rh.ray.tfar > rh.ray.tnear)) return 0;
@@ -320,6 +326,7 @@ int vbl_surfaces_intersect(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 dire
 int vbl_surfaces_occluded(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 direction, double t_min, double t_max)
 {
     if (!s || s->count == 0 || !(t_max > t_min)) return 0;
+    ++vbl_thread_rays;
     struct RTCRay ray;
     vbl_fill_ray(&ray, origin, direction, t_min, t_max);
     if (!(ray.tfar > ray.tnear)) return 0;

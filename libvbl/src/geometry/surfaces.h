@@ -31,6 +31,9 @@ int vbl_surfaces_intersect(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 dire
                            vbl_surface_hit* hit);
 /* 1 if anything blocks (t_min, t_max). NULL surfaces: 0. */
 int vbl_surfaces_occluded(const vbl_surfaces* s, vbl_vec3 origin, vbl_vec3 direction, double t_min, double t_max);
+/* Ray casts (intersect + occluded calls that reach Embree) made by the calling thread so far: a
+ * deterministic cost count (render.hybrid's pilot, render/hybrid.h). */
+uint64_t vbl_surfaces_ray_count(void);
 
 /* Offset for spawning rays off a surface point without self-intersection (scale-aware). */
 double vbl_surfaces_ray_epsilon(const vbl_surfaces* s, vbl_vec3 position);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "vbl/vbl_film.h"
 
 #define VBL_OPT_TYPE_NAME_INT "int"
 #define VBL_OPT_TYPE_NAME_UINT64 "uint64"
@@ -167,6 +168,35 @@ int vbl_option_assign_number(vbl_render_options* o, int index, double v, int str
     return 0;
 }
 
+/* hybrid_pt_classes as text: comma-separated layer names (vbl_transport_class_parse) -> the bit mask. */
+static int vbl_option_assign_classes(vbl_render_options* o, int index, const char* text, int strict, char* why,
+                                     size_t size)
+{
+    int mask = 0;
+    const char* p = text;
+    for (;;) {
+        size_t n = strcspn(p, ",");
+        char name[64];
+        vbl_transport_class c;
+        if (n == 0 || n >= sizeof name) {
+            snprintf(why, size, "= \"%s\" is not a bit mask or a comma-separated list of layer names", text);
+            return 1;
+        }
+        memcpy(name, p, n);
+        name[n] = '\0';
+        if (vbl_transport_class_parse(name, &c) != VBL_SUCCESS) {
+            vbl_clear_error();
+            snprintf(why, size, "= \"%s\": \"%s\" is not a transport class layer (background, surface_direct, ...)",
+                     text, name);
+            return 1;
+        }
+        mask |= 1 << (int)c;
+        if (!p[n]) break;
+        p += n + 1;
+    }
+    return vbl_option_assign_number(o, index, mask, strict, why, size);
+}
+
 int vbl_option_assign_text(vbl_render_options* o, int index, const char* text, int strict, char* why, size_t size)
 {
     if (index < 0 || index >= VBL_OPT_COUNT) {
@@ -189,6 +219,8 @@ int vbl_option_assign_text(vbl_render_options* o, int index, const char* text, i
     }
     case VBL_OPTION_INT: {
         long long v = strtoll(text, &end, 10);
+        if (index == VBL_OPT_hybrid_pt_classes && (end == text || (end && *end))) /* layer names */
+            return vbl_option_assign_classes(o, index, text, strict, why, size);
         if (errno || !end || *end || end == text) {
             snprintf(why, size, "= \"%s\" is not an integer", text);
             return 1;

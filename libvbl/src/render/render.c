@@ -14,6 +14,7 @@
 #include "render/render_limits.h"
 #include "sampling/sobol.h"
 #include "transport/common/estimator.h"
+#include "render/hybrid.h"
 #include "transport/path_tracing/pt.h"
 #include "transport/path_tracing/pt_guide.h"
 
@@ -159,6 +160,7 @@ typedef struct vbl_render_driver {
     int passes_done;
     int threads;
     double start;
+    const vbl_hybrid_plan* hybrid; /* render.hybrid, else NULL */
 } vbl_render_driver;
 
 static void vbl_render_fill_stats(const vbl_render_driver* d, vbl_film_stats* stats)
@@ -174,6 +176,11 @@ static void vbl_render_fill_stats(const vbl_render_driver* d, vbl_film_stats* st
     stats->render_seconds = omp_get_wtime() - d->start;
     stats->first_pass = d->options->first_pass;
     stats->transparent = d->options->transparent != 0;
+    if (d->hybrid) {
+        stats->hybrid = (int)d->options->hybrid;
+        stats->hybrid_pt_classes = (int)d->hybrid->pt_classes;
+        stats->hybrid_pt_spp = d->hybrid->pt_spp;
+    }
 }
 
 vbl_result vbl_render_snapshot(const vbl_render_progress* progress, vbl_film** out_film)
@@ -225,8 +232,11 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                          "and beams do)",
                          scene->path, est->name);
 
-    if (options->light_groups && scene->light_group_count > 0)
+    if (options->light_groups && scene->light_group_count > 0) {
+        if (options->hybrid != VBL_HYBRID_OFF)
+            return vbl_error(VBL_ERROR_UNSUPPORTED, "%s: hybrid and light_groups do not combine yet", scene->path);
         return vbl_render_light_groups(scene, options, est, out_film); /* one render per group */
+    }
 
     vbl_render_context ctx;
     memset(&ctx, 0, sizeof ctx);
@@ -250,6 +260,15 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     ctx.tracking.majorant_scale = options->transmittance_majorant_scale;
     ctx.threads = options->threads > 0 ? options->threads : omp_get_max_threads();
     if (ctx.threads < 1) ctx.threads = 1;
+    /* render.hybrid: pt takes some classes (render/hybrid.h); auto runs its pilot here, before any
+     * pass, with seeds of its own, so every pass range of a split render makes the same plan */
+    vbl_hybrid_plan hybrid_plan;
+    const double hybrid_start = omp_get_wtime(); /* the pilot counts towards time_limit and render_seconds */
+    if (options->hybrid != VBL_HYBRID_OFF) {
+        if ((r = vbl_hybrid_plan_make(&ctx, est, &hybrid_plan))) return r;
+        ctx.hybrid = &hybrid_plan;
+        est = &vbl_estimator_hybrid;
+    }
 
     const int width = scene->camera.width, height = scene->camera.height;
     size_t pixel_count = (size_t)width * (size_t)height;
@@ -266,7 +285,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
 
     const int tiles_x = (width + VBL_TILE - 1) / VBL_TILE, tiles_y = (height + VBL_TILE - 1) / VBL_TILE;
     const int tile_count = tiles_x * tiles_y;
-    double start = omp_get_wtime();
+    double start = ctx.hybrid ? hybrid_start : omp_get_wtime();
     /* pt.guided_rr: the radiance cache's pre-pass, once per render (pt_guide.h) */
     vbl_pt_guide* guide = NULL;
     if (est->camera_sample == vbl_pt_camera_sample && options->pt.guided_rr) {
@@ -281,7 +300,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
     int cut_in_light_phase = 0; /* the dropped pass stopped in pass_begin (light tracing, builds) */
     volatile int tiles_done = 0; /* of the dropped pass, for the message when no pass completed */
-    vbl_render_driver driver = {scene, &ctx.options, accum, 0, ctx.threads, start};
+    vbl_render_driver driver = {scene, &ctx.options, accum, 0, ctx.threads, start, ctx.hybrid};
     /* Stopping inside a pass (cancel flag, time limit) restores the accumulators of the last
      * complete pass from this copy: the film never holds part of a pass. The time limit applies to
      * the first pass too: one stopped there leaves no complete pass and no film. */

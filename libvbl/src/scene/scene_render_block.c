@@ -62,6 +62,11 @@ static vbl_result vbl_render_block_value(const vbl_json_ctx* ctx, const cJSON* i
             return vbl_json_fail(ctx, "%s %s", field, why);
         return VBL_SUCCESS;
     default:
+        if (cJSON_IsString(item) && item->valuestring && !strcmp(d->name, "hybrid_pt_classes")) { /* layer names */
+            if (vbl_option_assign_text(o, index, item->valuestring, 1, why, sizeof why))
+                return vbl_json_fail(ctx, "%s %s", field, why);
+            return VBL_SUCCESS;
+        }
         if (!cJSON_IsNumber(item)) return vbl_json_fail(ctx, "%s must be a number", field);
         v = item->valuedouble;
         if (!isfinite(v)) return vbl_json_fail(ctx, "%s must be finite", field);

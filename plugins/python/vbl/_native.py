@@ -175,7 +175,10 @@ class _FilmStats(ctypes.Structure):
                 ("time_limited", ctypes.c_int),
                 ("first_pass", ctypes.c_int),
                 ("discarded_pass", ctypes.c_int),
-                ("transparent", ctypes.c_int)]
+                ("transparent", ctypes.c_int),
+                ("hybrid", ctypes.c_int),
+                ("hybrid_pt_classes", ctypes.c_int),
+                ("hybrid_pt_spp", ctypes.c_int)]
 
 
 # Sizes of the mirrored structs (tests compare them with sizeof in C).

@@ -90,7 +90,7 @@ void vbl_render_exr_channel_name(const vbl_render_exr_layers* L, int k, int c, c
 /* ---- header ------------------------------------------------------------------------------ */
 
 typedef struct vbl_render_exr_meta {
-    char software[64], seed[32], options_hash[40], pass_range[64];
+    char software[64], seed[32], options_hash[40], pass_range[64], hybrid[256];
     vbl_exr_attribute attrs[VBL_RENDER_EXR_MAX_ATTRS];
     int count;
 } vbl_render_exr_meta;

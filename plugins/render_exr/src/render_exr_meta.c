@@ -59,6 +59,20 @@ void vbl_render_exr_meta_make(const vbl_render_exr_settings* s, const vbl_film_s
                                   "layer is rendered: it is in the beauty)",
                             S, 0, 0.0);
     if (options->transparent) vbl_render_exr_meta_add(m, "vbl:transparent", NULL, I, 1, 0.0);
+    if (stats->hybrid) { /* render.hybrid: the classes pt rendered, as chosen (docs/readme/hybrid.md) */
+        size_t n = (size_t)snprintf(m->hybrid, sizeof m->hybrid, "pt:");
+        int any = 0;
+        for (int c = 0; c < VBL_CLASS_COUNT && n < sizeof m->hybrid; ++c)
+            if (stats->hybrid_pt_classes & (1 << c)) {
+                n += (size_t)snprintf(m->hybrid + n, sizeof m->hybrid - n, "%s%s", any ? "," : " ",
+                                      vbl_transport_class_name((vbl_transport_class)c));
+                any = 1;
+            }
+        if (n < sizeof m->hybrid)
+            snprintf(m->hybrid + n, sizeof m->hybrid - n, "%s; pt_spp %d (%s)", any ? "" : " none",
+                     stats->hybrid_pt_spp, stats->hybrid == VBL_HYBRID_AUTO ? "auto" : "classes");
+        vbl_render_exr_meta_add(m, "vbl:hybrid", m->hybrid, S, 0, 0.0);
+    }
     if (s->have_camera) {
         vbl_render_exr_meta_add(m, "worldToCamera", NULL, VBL_EXR_ATTRIBUTE_M44F, 0, 0.0);
         m->attrs[m->count - 1].m44 = s->world_to_camera;

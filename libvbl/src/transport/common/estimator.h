@@ -53,7 +53,18 @@ typedef struct vbl_render_context {
                                      stop seen anywhere in a pass is seen by the driver too (NULL ok) */
     const struct vbl_pt_guide* pt_guide; /* pt.guided_rr: the radiance cache of the render's pre-pass
                                             (transport/path_tracing/pt_guide.h; NULL: plain RR) */
+    unsigned skip_classes;        /* bit c (1u << vbl_transport_class): another estimator owns class c
+                                     (render.hybrid, render/hybrid.h), so this one may skip work whose
+                                     every class is skipped; what it adds there anyway the hybrid drops.
+                                     0 (a memset context): every class */
+    const struct vbl_hybrid_plan* hybrid; /* render.hybrid: the plan (render/hybrid.h), else NULL */
 } vbl_render_context;
+
+/* 1 if the estimator must compute class c (vbl_render_context.skip_classes). */
+static inline int vbl_ctx_wants(const vbl_render_context* ctx, vbl_transport_class c)
+{
+    return !(ctx->skip_classes & (1u << (unsigned)c));
+}
 
 /* 1 once the render must stop: *options.cancel is non-zero or the time limit has passed (a context
  * zeroed by memset never stops). The long phases of pass_begin (light tracing, the light-path

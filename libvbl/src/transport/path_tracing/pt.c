@@ -87,6 +87,17 @@ static void vbl_pt_vertex(vbl_pt_path* p, int is_surface)
     if (p->events == 2) p->second = is_surface;
 }
 
+/* 1 if every class the path can still add to is skipped (ctx->skip_classes, render.hybrid): from
+ * vertex 2 on a path adds to one class only; at vertex 1 to *_direct and the two classes of its kind. */
+static int vbl_pt_path_skipped(const vbl_render_context* ctx, const vbl_pt_path* p)
+{
+    if (!ctx->skip_classes || p->events <= 0) return 0;
+    if (p->events >= 2) return !vbl_ctx_wants(ctx, vbl_pt_class(p));
+    return !vbl_ctx_wants(ctx, vbl_class_for_vertices(p->first_is_surface, -1)) &&
+           !vbl_ctx_wants(ctx, vbl_class_for_vertices(p->first_is_surface, 0)) &&
+           !vbl_ctx_wants(ctx, vbl_class_for_vertices(p->first_is_surface, 1));
+}
+
 /* Light of quad/environment lights seen along (origin, direction) before t_limit (INFINITY:
  * nothing blocks the ray, so the environment is seen too). prev_pdf is the phase/BRDF pdf of
  * direction and `vertex` the scattering point it was sampled at (ignored for camera rays). */
@@ -95,7 +106,7 @@ static void vbl_pt_add_visible_lights(const vbl_render_context* ctx, vbl_vec3 or
                                       const vbl_pt_eq_vertex* eq_vertex, vbl_vec3 beta, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
-    if (!scene->has_visible_lights) return;
+    if (!scene->has_visible_lights || !vbl_ctx_wants(ctx, vbl_pt_class(path))) return;
     double select_pdf = 1.0 / scene->light_count;
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
     for (int i = 0; i < scene->light_count; ++i) {
@@ -152,6 +163,7 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     vbl_light_sample ls;
     double select_pdf;
     const vbl_light* light = NULL;
+    if (!vbl_ctx_wants(ctx, vbl_pt_class(path))) return; /* render.hybrid: another estimator's class */
     if (!vbl_pt_pick_light(scene, x, dims, path->events, rng, &ls, &select_pdf, &light)) return;
     if (path->events == 1 && vbl_pt_direct_strata_skips(ctx, light)) return; /* pt_direct_strata.h */
     double cos_theta = vbl_v3_dot(travel, ls.wi);
@@ -186,6 +198,7 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     const vbl_material* m = &scene->materials[hit->material];
     vbl_light_sample ls;
     double select_pdf;
+    if (!vbl_ctx_wants(ctx, vbl_pt_class(path))) return; /* render.hybrid: another estimator's class */
     if (!vbl_pt_pick_light(scene, hit->position, dims, path->events, rng, &ls, &select_pdf, NULL)) return;
     if (!(vbl_v3_dot(ls.wi, hit->geometric_normal) > 0.0)) return; /* below the surface: opaque */
     double cos_i = vbl_v3_dot(ls.wi, hit->shading_normal);
@@ -294,13 +307,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double t_limit = collided ? t : t_surface;
         vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
                                   has_eq_vertex ? &eq_vertex : NULL, beta, out);
-        if (direct_strata && path.events == 0) /* the camera segment's single scattering, stratified */
+        if (direct_strata && path.events == 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT)) /* the camera segment's single scattering, stratified */
             vbl_pt_direct_strata(nee_ctx, ts, origin, direction, t_surface, beta, rng,
                                  &out->L[VBL_CLASS_VOLUME_DIRECT]);
-        if (equiangular && (max_bounces < 0 || path.events < max_bounces)) {
-            /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
-            vbl_pt_path next = path;
-            vbl_pt_vertex(&next, 0);
+        vbl_pt_path next = path; /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
+        vbl_pt_vertex(&next, 0);
+        if (equiangular && (max_bounces < 0 || path.events < max_bounces) && vbl_ctx_wants(ctx, vbl_pt_class(&next))) {
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, u_pick, u_t, rng,
@@ -311,6 +323,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
 
         vbl_pt_vertex(&path, !collided);
         if (max_bounces >= 0 && path.events > max_bounces) break;
+        if (vbl_pt_path_skipped(ctx, &path)) break; /* render.hybrid */
         double u0, u1, u2;
         vbl_vec3 wi;
         double pdf = 0.0;

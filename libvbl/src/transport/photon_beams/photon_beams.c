@@ -252,6 +252,8 @@ void vbl_photon_beams_camera_sample(const vbl_render_context* ctx, const void* s
     vbl_add_visible_emission(ctx, ts, sample->origin, sample->direction, rng, out);
     vbl_camera_media_emission(ctx, ts, sample, 0, rng, out); /* the fire's bounce-0 beams: its volume_direct */
     if (!s || ctx->options.max_bounces == 0) return;
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT) && !vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME))
+        return; /* render.hybrid: pt owns both beam classes */
     vbl_photon_beam_gather_eval(ctx, s->gather, ts, sample->origin, sample->direction, sample->t_max, rng, out);
 }
 

@@ -398,6 +398,11 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     const vbl_scene* scene = ctx->scene;
     const int M = ctx->options.max_bounces;
     if (!scene->surfaces || !isfinite(sample->t_max) || M == 0) return;
+    /* render.hybrid: the surface classes another estimator owns are skipped */
+    const int want_direct = vbl_ctx_wants(ctx, VBL_CLASS_SURFACE_DIRECT);
+    const int want_volume = vbl_ctx_wants(ctx, VBL_CLASS_SURFACE_FROM_VOLUME);
+    const int want_surface = vbl_ctx_wants(ctx, VBL_CLASS_SURFACE_FROM_SURFACE);
+    if (!want_direct && !want_volume && !want_surface) return;
     const vbl_vec3 o = sample->origin, d = sample->direction;
     vbl_surface_hit hit;
     if (!vbl_surfaces_intersect(scene->surfaces, o, d, 0.0, INFINITY, &hit)) return;
@@ -407,8 +412,10 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     const vbl_material* m = &scene->materials[hit.material];
     const vbl_vec3 x = hit.position, n = hit.shading_normal;
 
-    vbl_vec3 direct = vbl_surface_nee(ctx, ts, &hit, wo, rng);
-    out->L[VBL_CLASS_SURFACE_DIRECT] = vbl_v3_madd(out->L[VBL_CLASS_SURFACE_DIRECT], direct, tcam);
+    if (want_direct) {
+        vbl_vec3 direct = vbl_surface_nee(ctx, ts, &hit, wo, rng);
+        out->L[VBL_CLASS_SURFACE_DIRECT] = vbl_v3_madd(out->L[VBL_CLASS_SURFACE_DIRECT], direct, tcam);
+    }
     if (!photons) return;
 
     const double clamp2 = gs->clamp_distance * gs->clamp_distance;
@@ -423,7 +430,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     vbl_medium_point lobes; /* several media: every lobe, weighted by density scale (the sampler's hint) */
     lobes.count = 0;
     if (gs->vrls && scene->media_count > 1) vbl_medium_point_scene(scene, &lobes);
-    if (gs->vrls) {
+    if (gs->vrls && want_volume) {
         for (size_t j = 0; j < photons->vrl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &photons->vrls[j];
@@ -449,7 +456,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             from_volume = vbl_v3_add(from_volume, vbl_v3_mul(e, cb.albedo));
         }
     }
-    if (gs->vpls) {
+    if (gs->vpls && want_volume) {
         for (size_t j = 0; j < photons->vpl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vpl* p = &photons->vpls[j];
@@ -470,6 +477,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
         }
     }
     out->L[VBL_CLASS_SURFACE_FROM_VOLUME] = vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_VOLUME], from_volume, tcam);
+    if (!want_surface) return;
 
     /* surface_from_surface. The caustic split (surface_caustics.h): at a receiver that is not
      * highly specular, light from a highly specular VSL comes from the caustic photons instead. */
@@ -533,6 +541,7 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
                                 const vbl_transmittance_cache* cache, double u0, double u1, vbl_rng* rng,
                                 vbl_sample_value* out)
 {
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_SURFACE)) return; /* render.hybrid */
     if (gs->blue_noise_mode && gs->blue_noise_volume) {
         vbl_vec3 e = vbl_volume_from_blue_noise(ctx, ts, gs, sample, u0, u1, rng);
         out->L[VBL_CLASS_VOLUME_FROM_SURFACE] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_SURFACE], e);

@@ -352,10 +352,14 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
     const int beams_direct = s && s->settings.beams_single_scattering;
     vbl_camera_media_emission(ctx, ts, sample, (beams_direct ? 0 : VBL_EMISSION_DIRECT_VOLUME) | VBL_EMISSION_DIRECT_SURFACE,
                               rng, out); /* with beams_direct the fire's bounce-0 beams are its volume_direct */
-    if (!beams_direct && M != 0)
+    if (!beams_direct && M != 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT))
         vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
+    /* render.hybrid: with every media class of the camera segment owned by pt, no segment work */
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME) && !vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_SURFACE) &&
+        !(beams_direct && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT)))
+        return;
 
     vbl_transmittance_cache cache; /* one camera-ray cache for the beams and the VBLs */
     double u0, u1;
@@ -363,6 +367,7 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
     vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
     if (beams_direct) vbl_photon_beam_gather_eval_cached(ctx, s->beams, ts, &cache, o, d, u0, u1, out);
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME)) return; /* render.hybrid: pt owns it */
     if (s->settings.select > 0) {
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
         const int K = s->settings.select;

@@ -93,9 +93,12 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     vbl_camera_media_emission(ctx, ts, sample, VBL_EMISSION_DIRECT_VOLUME | VBL_EMISSION_DIRECT_SURFACE, rng, out);
-    if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (M != 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT))
+        vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     if (!s || (s->photons.vpl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
+    /* render.hybrid: with both media classes of the camera segment owned by pt, no segment work */
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME) && !vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_SURFACE)) return;
 
     vbl_transmittance_cache cache;
     double u0, u1;
@@ -104,6 +107,7 @@ void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
     vbl_medium_point mu;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME)) return; /* render.hybrid: pt owns it */
     for (size_t j = 0; j < s->photons.vpl_count; ++j) {
         if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
         const vbl_vpl* p = &s->photons.vpls[j];

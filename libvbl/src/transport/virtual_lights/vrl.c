@@ -324,9 +324,12 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
     const int M = ctx->options.max_bounces;
     vbl_add_visible_emission(ctx, ts, o, d, rng, out);
     vbl_camera_media_emission(ctx, ts, sample, VBL_EMISSION_DIRECT_VOLUME | VBL_EMISSION_DIRECT_SURFACE, rng, out);
-    if (M != 0) vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    if (M != 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT))
+        vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     if (!s || (s->photons.vrl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
+    /* render.hybrid: with both media classes of the camera segment owned by pt, no segment work */
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME) && !vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_SURFACE)) return;
 
     vbl_vrl_camera cam;
     if (!vbl_vrl_camera_cache(ctx, s, ts, o, d, sample->t_max, rng, &cam)) return;
@@ -339,6 +342,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
         s->settings.camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera_pdf) ? &camera_pdf : NULL;
     vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
     const vbl_vrl_gather g = {ctx, s, ts, &cam, camera, rng, &acc};
+    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME)) return; /* render.hybrid: pt owns it */
     if (s->settings.select > 0) {
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
         const int K = s->settings.select;

@@ -1,0 +1,173 @@
+/* The auto pilot of render.hybrid (hybrid.h, vbl_hybrid_pilot): per class, the relative variance
+ * x cost of the virtual-light method and of pt on a small pixel grid, and the assignment. */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "render/hybrid.h"
+#include "transport/path_tracing/pt.h"
+
+/* One pilot pixel's sums over the pilot passes. */
+typedef struct vbl_pilot_pixel {
+    int px, py;
+    double vl_sum[VBL_CLASS_COUNT], vl_sq[VBL_CLASS_COUNT]; /* over passes, of the pass mean (luminance-free: R+G+B) */
+    double pt_sum[VBL_CLASS_COUNT], pt_sq[VBL_CLASS_COUNT]; /* over single pt samples */
+    uint64_t vl_lookups, pt_lookups;
+} vbl_pilot_pixel;
+
+static double vbl_pilot_value(vbl_vec3 v) { return v.x + v.y + v.z; }
+
+/* The camera sample of pixel (px, py) from rng, as the render driver makes it (render.c). */
+static void vbl_pilot_camera_sample(const vbl_render_context* ctx, int px, int py, uint32_t index, vbl_rng* rng,
+                                    vbl_camera_sample* cs)
+{
+    const vbl_camera* cam = &ctx->scene->camera;
+    memset(cs, 0, sizeof *cs);
+    cs->px = px;
+    cs->py = py;
+    cs->pixel_index = (uint64_t)py * (uint64_t)cam->width + (uint64_t)px;
+    cs->sample_index = index;
+    cs->sx = px + vbl_rng_uniform(rng);
+    cs->sy = py + vbl_rng_uniform(rng);
+    vbl_camera_ray(cam, cs->sx, cs->sy, &cs->origin, &cs->direction);
+    cs->t_max = INFINITY;
+    if (ctx->scene->surfaces) {
+        vbl_surface_hit hit;
+        if (vbl_surfaces_intersect(ctx->scene->surfaces, cs->origin, cs->direction, 0.0, INFINITY, &hit))
+            cs->t_max = hit.t;
+    }
+}
+
+/* The pilot's cost count of this thread: density lookups + VBL_HYBRID_RAY_COST per ray cast. */
+static uint64_t vbl_pilot_lookups(const vbl_thread_state* ts)
+{
+    return vbl_extinction_cursor_lookups(&ts->cursor) + (uint64_t)VBL_HYBRID_RAY_COST * vbl_surfaces_ray_count();
+}
+
+vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* base, vbl_hybrid_plan* plan)
+{
+    const vbl_scene* scene = ctx->scene;
+    const int W = scene->camera.width, H = scene->camera.height;
+    const int gx = W < VBL_HYBRID_PILOT_GRID ? W : VBL_HYBRID_PILOT_GRID;
+    const int gy = H < VBL_HYBRID_PILOT_GRID ? H : VBL_HYBRID_PILOT_GRID;
+    const int count = gx * gy, spp = ctx->options.spp, P = VBL_HYBRID_PILOT_PASSES;
+    vbl_pilot_pixel* px = calloc((size_t)count, sizeof *px);
+    if (!px) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (hybrid pilot)", scene->path);
+    for (int j = 0; j < gy; ++j)
+        for (int i = 0; i < gx; ++i) {
+            px[j * gx + i].px = (int)((i + 0.5) * W / gx);
+            px[j * gx + i].py = (int)((j + 0.5) * H / gy);
+        }
+    vbl_render_context pc = *ctx; /* the pilot's own seeds and passes; no time limit */
+    pc.options.seed = ctx->options.seed ^ VBL_RNG_DOMAIN_HYBRID;
+    pc.options.pt.sampler = VBL_PT_SAMPLER_INDEPENDENT;
+    pc.deadline = 0.0;
+    pc.skip_classes = 0;
+    pc.hybrid = NULL;
+    vbl_result r = VBL_SUCCESS;
+    for (int p = 0; p < P && !r; ++p) {
+        pc.pass = (uint32_t)p;
+        void* store = NULL;
+        if ((r = base->pass_begin(&pc, &store))) break;
+#pragma omp parallel num_threads(ctx->threads)
+        {
+            vbl_thread_state ts;
+            memset(&ts, 0, sizeof ts);
+            vbl_extinction_cursor_init(&ts.cursor, pc.extinction);
+            if (scene->has_emission) vbl_emission_cursor_init(&ts.emission, scene);
+#pragma omp for schedule(dynamic, 1)
+            for (int k = 0; k < count; ++k) {
+                vbl_pilot_pixel* q = &px[k];
+                const uint64_t pixel = (uint64_t)q->py * (uint64_t)W + (uint64_t)q->px;
+                vbl_camera_sample cs;
+                double mean[VBL_CLASS_COUNT] = {0};
+                vbl_rng rng = vbl_rng_make(pc.options.seed, (uint64_t)p, pixel);
+                uint64_t l0 = vbl_pilot_lookups(&ts);
+                for (int s = 0; s < spp; ++s) {
+                    vbl_sample_value v;
+                    memset(&v, 0, sizeof v);
+                    vbl_pilot_camera_sample(&pc, q->px, q->py, (uint32_t)(p * spp + s), &rng, &cs);
+                    base->camera_sample(&pc, store, &ts, &cs, &rng, &v);
+                    for (int c = 0; c < VBL_CLASS_COUNT; ++c) mean[c] += vbl_pilot_value(v.L[c]) / spp;
+                }
+                uint64_t l1 = vbl_pilot_lookups(&ts);
+                q->vl_lookups += l1 - l0;
+                for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+                    q->vl_sum[c] += mean[c];
+                    q->vl_sq[c] += mean[c] * mean[c];
+                }
+                vbl_rng prng = vbl_rng_make(pc.options.seed ^ VBL_RNG_DOMAIN_LIGHT, (uint64_t)p, pixel);
+                for (int s = 0; s < spp; ++s) {
+                    vbl_sample_value v;
+                    memset(&v, 0, sizeof v);
+                    vbl_pilot_camera_sample(&pc, q->px, q->py, (uint32_t)(p * spp + s), &prng, &cs);
+                    vbl_pt_camera_sample(&pc, NULL, &ts, &cs, &prng, &v);
+                    for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+                        double x = vbl_pilot_value(v.L[c]);
+                        q->pt_sum[c] += x;
+                        q->pt_sq[c] += x * x;
+                    }
+                }
+                q->pt_lookups += vbl_pilot_lookups(&ts) - l1;
+            }
+        }
+        if (base->pass_end) base->pass_end(&pc, store);
+        if (pc.stop_latch && *pc.stop_latch) r = vbl_error(VBL_ERROR_INTERRUPTED, "%s: render stopped during the hybrid pilot", scene->path);
+    }
+    if (r) {
+        free(px);
+        return r;
+    }
+    /* per pixel: relative variances (by the squared mean beauty of both estimators, floored at
+     * 1e-3 of the grid's mean beauty so that black pixels do not dominate) */
+    const double n_pt = (double)P * spp;
+    double grid_mean = 0.0;
+    for (int k = 0; k < count; ++k)
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) grid_mean += 0.5 * (px[k].vl_sum[c] / P + px[k].pt_sum[c] / n_pt);
+    grid_mean /= count;
+    const double floor2 = (1e-3 * grid_mean) * (1e-3 * grid_mean) + 1e-300;
+    vbl_hybrid_pilot_stats* st = &plan->pilot;
+    memset(st, 0, sizeof *st);
+    double energy[VBL_CLASS_COUNT] = {0};
+    uint64_t vl_lookups = 0, pt_lookups = 0;
+    for (int k = 0; k < count; ++k) { /* in pixel order: the same sums at any thread count */
+        const vbl_pilot_pixel* q = &px[k];
+        double b = 0.0;
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) b += 0.5 * (q->vl_sum[c] / P + q->pt_sum[c] / n_pt);
+        const double norm = b * b + floor2;
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+            double mv = q->vl_sum[c] / P, mp = q->pt_sum[c] / n_pt;
+            double vv = fmax(0.0, (q->vl_sq[c] - P * mv * mv) / (P - 1));
+            double vp = fmax(0.0, (q->pt_sq[c] - n_pt * mp * mp) / (n_pt - 1));
+            st->vl_variance[c] += vv / norm;
+            st->pt_variance[c] += vp / norm;
+            energy[c] += fabs(mv) + fabs(mp);
+        }
+        vl_lookups += q->vl_lookups;
+        pt_lookups += q->pt_lookups;
+    }
+    free(px);
+    st->vl_cost = (double)vl_lookups / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp;
+    st->pt_cost = (double)pt_lookups / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
+    unsigned mask = 0;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c)
+        if (energy[c] > 0.0 && st->pt_variance[c] * st->pt_cost < st->vl_variance[c] * st->vl_cost) mask |= 1u << c;
+    if (mask) /* classes without energy in the pilot cost pt nothing more */
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c)
+            if (!(energy[c] > 0.0)) mask |= 1u << c;
+    double A = 0.0, B = 0.0;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+        if (mask & (1u << c)) B += st->pt_variance[c];
+        else A += st->vl_variance[c];
+    }
+    int pt_spp = 1;
+    if (mask && mask != VBL_HYBRID_ALL_CLASSES && A > 0.0 && B > 0.0) {
+        double ratio = sqrt(B * st->vl_cost / (A * st->pt_cost)) / spp; /* pt samples per method sample */
+        pt_spp = ratio < 1.0 ? 1 : (ratio > VBL_HYBRID_MAX_PT_SPP ? VBL_HYBRID_MAX_PT_SPP : (int)floor(ratio + 0.5));
+    }
+    plan->pt_classes = mask;
+    plan->pt_spp = pt_spp;
+    return VBL_SUCCESS;
+}
