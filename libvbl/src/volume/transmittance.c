@@ -121,6 +121,9 @@ static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
     return next > t ? next : nextafter(t, INFINITY);
 }
 
+/* Weight above which the mid-bound's late control is folded in (vbl_track). */
+#define VBL_LATE_CONTROL_FOLD 1e100
+
 /* The shared free-flight loop. Returns VBL_TRACK_STOP if the tracker stopped, else CONTINUE. */
 static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin, vbl_vec3 direction,
                      double t0, double t1, int use_global, vbl_tracker* tr, double* per_component)
@@ -175,7 +178,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             }
             continue; /* empty (or exactly known) segment: no lookups */
         }
-        double t = seg.t0;
+        double t = seg.t0, t_control = seg.t0; /* the late control covers [t_control, t1] */
         for (;;) {
             t = vbl_exp_step(t, mu, tr->rng);
             if (t >= seg.t1) break;
@@ -186,9 +189,17 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
                 tr->sigma_stop = sigma_t;
                 return VBL_TRACK_STOP;
             }
+            /* The mid-bound's factors (up to 2 each) can overflow over thousands of events in a
+             * dense segment before the late control exp(-sigma_c len) compensates (inf x 0 = NaN):
+             * fold the control of [t_control, t] in first. The same product, regrouped. */
+            if (control_late && tr->weight > VBL_LATE_CONTROL_FOLD) {
+                tr->weight *= exp(-sigma_c * (t - t_control));
+                t_control = t;
+                if (vbl_tracker_roulette(tr) == VBL_TRACK_STOP) return VBL_TRACK_STOP;
+            }
         }
         if (control_late && sigma_c > 0.0) {
-            tr->weight *= exp(-sigma_c * (seg.t1 - seg.t0));
+            tr->weight *= exp(-sigma_c * (seg.t1 - t_control));
             if (vbl_tracker_roulette(tr) == VBL_TRACK_STOP) return VBL_TRACK_STOP;
         }
     }
