@@ -114,13 +114,6 @@ static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double 
     return VBL_TRACK_CONTINUE;
 }
 
-/* Advances t by an exponential step of rate mu; never stalls when the step is below an ulp. */
-static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
-{
-    double next = t - log1p(-vbl_rng_uniform(rng)) / mu;
-    return next > t ? next : nextafter(t, INFINITY);
-}
-
 /* Weight above which the mid-bound's late control is folded in (vbl_track). */
 #define VBL_LATE_CONTROL_FOLD 1e100
 

@@ -4,6 +4,8 @@
 #ifndef VBL_VOLUME_TRANSMITTANCE_H
 #define VBL_VOLUME_TRANSMITTANCE_H
 
+#include <math.h>
+
 #include "core/rng.h"
 #include "volume/extinction.h"
 
@@ -26,6 +28,14 @@ typedef struct vbl_tracking_settings {
      * march density. 0 (older initializers): off. */
     int unbiased_march;
 } vbl_tracking_settings;
+
+/* Advances t by an exponential step of rate mu (the next tentative collision of a Poisson process);
+ * never stalls when the step is below an ulp. */
+static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
+{
+    double next = t - log1p(-vbl_rng_uniform(rng)) / mu;
+    return next > t ? next : nextafter(t, INFINITY);
+}
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached
  * estimators are not valid here (use transmittance_cache.h). */

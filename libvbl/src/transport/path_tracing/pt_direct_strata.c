@@ -65,8 +65,7 @@ static int vbl_pt_ds_walk(const vbl_render_context* ctx, vbl_thread_state* ts, v
         if (!(mu > 0.0)) continue;
         double t = seg.t0;
         for (;;) {
-            double next = t - log1p(-vbl_rng_uniform(rng)) / mu;
-            t = next > t ? next : nextafter(t, INFINITY);
+            t = vbl_exp_step(t, mu, rng);
             if (t >= seg.t1) break;
             if (n == VBL_PT_DS_POINTS) {
                 double d, sigma_t, comps[VBL_MAX_MEDIA];
