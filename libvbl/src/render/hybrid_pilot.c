@@ -23,21 +23,14 @@ static double vbl_pilot_value(vbl_vec3 v) { return v.x + v.y + v.z; }
 static void vbl_pilot_camera_sample(const vbl_render_context* ctx, int px, int py, uint32_t index, vbl_rng* rng,
                                     vbl_camera_sample* cs)
 {
-    const vbl_camera* cam = &ctx->scene->camera;
     memset(cs, 0, sizeof *cs);
     cs->px = px;
     cs->py = py;
-    cs->pixel_index = (uint64_t)py * (uint64_t)cam->width + (uint64_t)px;
+    cs->pixel_index = (uint64_t)py * (uint64_t)ctx->scene->camera.width + (uint64_t)px;
     cs->sample_index = index;
     cs->sx = px + vbl_rng_uniform(rng);
     cs->sy = py + vbl_rng_uniform(rng);
-    vbl_camera_ray(cam, cs->sx, cs->sy, &cs->origin, &cs->direction);
-    cs->t_max = INFINITY;
-    if (ctx->scene->surfaces) {
-        vbl_surface_hit hit;
-        if (vbl_surfaces_intersect(ctx->scene->surfaces, cs->origin, cs->direction, 0.0, INFINITY, &hit))
-            cs->t_max = hit.t;
-    }
+    vbl_camera_sample_ray(ctx->scene, cs);
 }
 
 /* The pilot's cost count of this thread: density lookups + VBL_HYBRID_RAY_COST per ray cast. */

@@ -74,7 +74,6 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
             cs.sx = px + vbl_rng_uniform(&rng);
             cs.sy = py + vbl_rng_uniform(&rng);
         }
-        vbl_camera_ray(cam, cs.sx, cs.sy, &cs.origin, &cs.direction);
         if (ctx->scene->motion && ctx->options.motion_blur) {
             /* motion blur: the path's time, stratified over the pixel's spp samples of the pass */
             const vbl_scene* sc = ctx->scene;
@@ -82,15 +81,8 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
             ts->cursor.time = sc->shutter_open + (sc->shutter_close - sc->shutter_open) * u;
             ts->emission.time = ts->cursor.time;
         }
-        cs.t_max = INFINITY; /* media transport along the camera ray stops at the first surface */
-        int surface_hit = 0;
-        if (ctx->scene->surfaces) {
-            vbl_surface_hit hit;
-            if (vbl_surfaces_intersect(ctx->scene->surfaces, cs.origin, cs.direction, 0.0, INFINITY, &hit)) {
-                cs.t_max = hit.t;
-                surface_hit = 1;
-            }
-        }
+        /* media transport along the camera ray stops at the first surface (cs.t_max) */
+        const int surface_hit = vbl_camera_sample_ray(ctx->scene, &cs);
 
         /* AOVs: alpha = 1 on opaque surfaces, else 1 - T(camera ray); Z = the delta-tracked
          * first collision or the surface hit, whichever comes first */

@@ -92,6 +92,19 @@ typedef struct vbl_camera_sample {
                                 media transport along the camera ray stops there */
 } vbl_camera_sample;
 
+/* Completes cs from its raster position (sx, sy): the camera ray and t_max, the first surface
+ * along it (INFINITY if none). Returns 1 when a surface is hit. */
+static inline int vbl_camera_sample_ray(const vbl_scene* scene, vbl_camera_sample* cs)
+{
+    vbl_camera_ray(&scene->camera, cs->sx, cs->sy, &cs->origin, &cs->direction);
+    cs->t_max = INFINITY;
+    vbl_surface_hit hit;
+    if (!scene->surfaces || !vbl_surfaces_intersect(scene->surfaces, cs->origin, cs->direction, 0.0, INFINITY, &hit))
+        return 0;
+    cs->t_max = hit.t;
+    return 1;
+}
+
 typedef struct vbl_sample_value {
     vbl_vec3 L[VBL_CLASS_COUNT];
 } vbl_sample_value;
