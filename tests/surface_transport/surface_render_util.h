@@ -70,6 +70,24 @@ static inline double check_sum_to_beauty(const vbl_film* film)
     return total;
 }
 
+/* a and b (the same render at different thread counts) are bit-identical on every layer, and
+ * d (another setting) differs from a somewhere: the setting takes effect deterministically. */
+static inline void check_identical_and_differs(const vbl_film* a, const vbl_film* b, const vbl_film* d)
+{
+    const int n = 3 * vbl_film_width(a) * vbl_film_height(a);
+    int differs = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        const float* pa = vbl_film_layer_rgb(a, layer_names[l]);
+        const float* pb = vbl_film_layer_rgb(b, layer_names[l]);
+        const float* pd = vbl_film_layer_rgb(d, layer_names[l]);
+        assert_true((pa == NULL) == (pb == NULL));
+        if (!pa) continue;
+        assert_memory_equal(pa, pb, sizeof(float) * (size_t)n);
+        for (int k = 0; pd && k < n; ++k) differs |= pa[k] != pd[k];
+    }
+    assert_true(differs);
+}
+
 /* One of layer_stats's renders: the film of `scene` under the caller's `config` with `seed`. */
 typedef vbl_film* (*layer_stats_render)(const vbl_scene* scene, const void* config, uint64_t seed);
 
