@@ -29,6 +29,21 @@ void rt_write_file(const char* dir, const char* name, const char* text, char* ou
     fclose(f);
 }
 
+int rt_merge_scene_write(const char* prefix, char* path, size_t path_size)
+{
+    const char* fixtures = getenv("VBL_FIXTURE_DIR");
+    if (!fixtures) return -1;
+    return vbl_test_temp_scene_write(prefix, path, path_size,
+            "{\"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40,"
+            " \"resolution\": [12, 9]},\n"
+            " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.3, 0.5, -0.8], \"irradiance\": [2.0, 1.8, 1.5]},"
+            " {\"type\": \"environment\", \"radiance\": [0.10, 0.12, 0.20]}],\n"
+            " \"media\": [{\"vdb\": \"%s/box.vdb\", \"density_scale\": 3.0, \"albedo\": [0.9, 0.8, 0.7],"
+            " \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],\n"
+            " \"render\": {\"passes\": 4, \"spp\": 2, \"seed\": 5, \"light_paths\": 40}}\n",
+            fixtures);
+}
+
 vbl_scene* rt_lit_box;
 static char rt_lit_box_path[512];
 

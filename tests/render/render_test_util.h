@@ -16,6 +16,12 @@ extern char rt_temp_dir[256];
 int rt_temp_dir_setup(void** state);
 int rt_temp_dir_teardown(void** state);
 
+/* The scene file of the film-merge tests (film merge, hybrid): the fixture box.vdb (density 3,
+ * albedo (0.9, 0.8, 0.7), HG g 0.3) under a distant light and a blue environment, 12 x 9, 4
+ * passes x 2 spp, seed 5, 40 light paths; written with vbl_test_temp_scene_write(prefix, ...).
+ * Returns 0, or -1 without VBL_FIXTURE_DIR or on a write error. */
+int rt_merge_scene_write(const char* prefix, char* path, size_t path_size);
+
 /* The group fixture of the render-loop tests (cancel, stop phases): rt_lit_box_setup writes a
  * scene file (vbl_test_temp_scene_write: the fixture box.vdb with albedo 0.8 and `density_scale`,
  * lit from above by a distant light, seen from -y at fov 40 and w x h) and loads it into

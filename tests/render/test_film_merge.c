@@ -17,6 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "render_test_util.h"
 #include "temp_scene.h"
 #include "vbl/vbl.h"
 
@@ -25,17 +26,7 @@ static char scene_path[1024];
 static int setup(void** state)
 {
     (void)state;
-    const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    if (!fixtures) return -1;
-    return vbl_test_temp_scene_write("vbl_film_merge", scene_path, sizeof scene_path,
-            "{\"camera\": {\"position\": [0.75, -3.0, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 40,"
-            " \"resolution\": [12, 9]},\n"
-            " \"lights\": [{\"type\": \"distant\", \"direction\": [-0.3, 0.5, -0.8], \"irradiance\": [2.0, 1.8, 1.5]},"
-            " {\"type\": \"environment\", \"radiance\": [0.10, 0.12, 0.20]}],\n"
-            " \"media\": [{\"vdb\": \"%s/box.vdb\", \"density_scale\": 3.0, \"albedo\": [0.9, 0.8, 0.7],"
-            " \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],\n"
-            " \"render\": {\"passes\": 4, \"spp\": 2, \"seed\": 5, \"light_paths\": 40}}\n",
-            fixtures);
+    return rt_merge_scene_write("vbl_film_merge", scene_path, sizeof scene_path);
 }
 
 static int teardown(void** state)
