@@ -8,7 +8,7 @@
  *       [--reference-seconds 240] [--vdb build/samples/cloud.vdb] [--csv FILE]
  *       [--source-dir SRC] [--cache-dir BUILD/bench] (defaults compiled in)
  *
- * Both placements render through the SAME estimator (vbl_vpl_camera_sample: equiangular gather
+ * Both placements render through the SAME estimator (vbl_vl_camera_sample: equiangular gather
  * of point lights along the camera ray); only the set of medium VPLs of a pass differs:
  *   light_paths  the classic VPLs: vpl's own photon trace with L light paths per pass, L chosen
  *                so that a pass holds about N medium VPLs (L measured per scene, counts printed);
@@ -403,9 +403,9 @@ static vbl_result placement_pass_begin(const vbl_render_context* ctx, void** sto
     const int surfaces = ctx->scene->surfaces != NULL;
     inner.options.light_paths = surfaces ? g_config.surface_light_paths
                                          : (g_config.kind == PLACEMENT_CAMERA ? 0 : g_config.light_paths);
-    vbl_result res = vbl_vpl_pass_begin_with(&inner, &settings, store);
+    vbl_result res = vbl_vl_pass_begin(&inner, &vbl_vl_kernel_point, &settings, store);
     if (res) return res;
-    vbl_photon_store* photons = vbl_vpl_store_photons(*store);
+    vbl_photon_store* photons = vbl_vl_photons_mutable(*store);
     if (g_config.kind == PLACEMENT_CAMERA || surfaces) {
         double t0 = omp_get_wtime();
         vbl_vpl* lights = NULL;
@@ -413,7 +413,7 @@ static vbl_result placement_pass_begin(const vbl_render_context* ctx, void** sto
         res = g_config.kind == PLACEMENT_CAMERA ? build_camera_lights(ctx, &lights, &count)
                                                 : trace_classic_vpls(ctx, &lights, &count);
         if (res) {
-            vbl_vpl_pass_end(ctx, *store);
+            vbl_vl_pass_end(ctx, *store);
             *store = NULL;
             return res;
         }
@@ -427,8 +427,8 @@ static vbl_result placement_pass_begin(const vbl_render_context* ctx, void** sto
     return VBL_SUCCESS;
 }
 
-static const vbl_estimator placement_estimator = {"bn_media", 1, placement_pass_begin, vbl_vpl_camera_sample,
-                                                  vbl_vpl_pass_end};
+static const vbl_estimator placement_estimator = {"bn_media", 1, placement_pass_begin, vbl_vl_camera_sample,
+                                                  vbl_vl_pass_end};
 
 /* Calibration: medium VPLs per light path of the vpl store (one pass, no camera work). */
 static double g_calibration_vpls;
@@ -436,8 +436,8 @@ static double g_calibration_vpls;
 static vbl_result calibration_pass_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vpl_settings settings = VBL_VPL_SETTINGS_DEFAULT;
-    vbl_result res = vbl_vpl_pass_begin_with(ctx, &settings, store);
-    if (!res) g_calibration_vpls = (double)vbl_vpl_store_photons(*store)->vpl_count;
+    vbl_result res = vbl_vl_pass_begin(ctx, &vbl_vl_kernel_point, &settings, store);
+    if (!res) g_calibration_vpls = (double)vbl_vl_photons_mutable(*store)->vpl_count;
     return res;
 }
 
@@ -448,7 +448,7 @@ static void calibration_camera_sample(const vbl_render_context* ctx, const void*
 }
 
 static const vbl_estimator calibration_estimator = {"bn_media_calibration", 1, calibration_pass_begin,
-                                                    calibration_camera_sample, vbl_vpl_pass_end};
+                                                    calibration_camera_sample, vbl_vl_pass_end};
 
 /* ======================================================================================== */
 /* ---- scenes, reference, error ---------------------------------------------------------- */

@@ -38,8 +38,8 @@ int main(int argc, char** argv)
         ctx.pass = p;
         vbl_vrl_settings st; vbl_vrl_settings_from_options(&o, &st);
         void* store = NULL;
-        if (vbl_vrl_pass_begin_with(&ctx, &st, &store)) { fprintf(stderr, "%s\n", vbl_last_error_message()); return 1; }
-        const vbl_photon_store* ph = vbl_vrl_store_photons(store);
+        if (vbl_vl_pass_begin(&ctx, &vbl_vl_kernel_ray, &st, &store)) { fprintf(stderr, "%s\n", vbl_last_error_message()); return 1; }
+        const vbl_photon_store* ph = vbl_vl_photons(store);
         size_t n = ph->vrl_count;
         double* E = calloc(n + 1, sizeof(double)); double* c = calloc(n + 1, sizeof(double)); double* pdf = calloc(n + 1, sizeof(double));
         double sumF = 0; int nsamp = 0; static double m2s[100000]; int nm2 = 0;
@@ -58,7 +58,7 @@ int main(int argc, char** argv)
             }
         if (sel && nm2) { int cmpd(const void* a, const void* b); qsort(m2s, nm2, sizeof(double), cmpd);
             printf("SEL pass %d: %d lit samples, relative second moment of one draw: median %.3g, 90%% %.3g, max %.3g\n", p, nm2, m2s[nm2/2], m2s[nm2*9/10], m2s[nm2-1]); }
-        int path = -1; if (sel) { free(E); free(c); free(pdf); vbl_vrl_pass_end(&ctx, store); continue; }
+        int path = -1; if (sel) { free(E); free(c); free(pdf); vbl_vl_pass_end(&ctx, store); continue; }
         for (size_t j = 0; j < n; ++j) {
             const vbl_vrl* l = &ph->vrls[j];
             if (l->bounce == 0) ++path;
@@ -74,7 +74,7 @@ int main(int argc, char** argv)
             printf("%d %d %d %.5g %.5g %.6g %.4g\n", p, path, l->bounce, l->length, vbl_v3_max_component(l->power), E[j], best);
         }
         free(E); free(c);
-        vbl_vrl_pass_end(&ctx, store);
+        vbl_vl_pass_end(&ctx, store);
     }
     return 0;
 }

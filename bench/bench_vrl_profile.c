@@ -56,14 +56,14 @@ static vbl_result vrl_begin(const vbl_render_context* ctx, int k, void** store)
     vbl_vrl_settings s;
     vbl_vrl_settings_from_options(&ctx->options, &s);
     s.select = k;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
 static vbl_result vbl_begin(const vbl_render_context* ctx, int k, void** store)
 {
     vbl_beam_light_settings s;
     vbl_beam_light_settings_from_options(&ctx->options, &s);
     s.select = k;
-    return vbl_beam_light_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_beam, &s, store);
 }
 
 /* Seconds per camera sample over the image (one sample per pixel, pixel streams as the driver). */
@@ -153,16 +153,16 @@ int main(int argc, char** argv)
             double t0 = omp_get_wtime();
             if ((m ? vbl_begin : vrl_begin)(&ctx, 0, &store)) fail();
             double t1 = omp_get_wtime();
-            const vbl_photon_store* ph = m ? vbl_beam_light_store_photons(store) : vbl_vrl_store_photons(store);
+            const vbl_photon_store* ph = m ? vbl_vl_photons(store) : vbl_vl_photons(store);
             size_t n = ph->vrl_count;
-            if (m) vbl_beam_light_pass_end(&ctx, store);
-            else vbl_vrl_pass_end(&ctx, store);
+            if (m) vbl_vl_pass_end(&ctx, store);
+            else vbl_vl_pass_end(&ctx, store);
             void* tstore = NULL;
             double t2 = omp_get_wtime();
             if ((m ? vbl_begin : vrl_begin)(&ctx, 4, &tstore)) fail();
             double t3 = omp_get_wtime();
-            if (m) vbl_beam_light_pass_end(&ctx, tstore);
-            else vbl_vrl_pass_end(&ctx, tstore);
+            if (m) vbl_vl_pass_end(&ctx, tstore);
+            else vbl_vl_pass_end(&ctx, tstore);
             printf("%s pass begin: %zu VRLs, %.4f s (with the light tree %.4f s)\n", m ? "vbl" : "vrl", n, t1 - t0,
                    t3 - t2);
         }
@@ -176,10 +176,10 @@ int main(int argc, char** argv)
                 void* store = NULL;
                 if ((m ? vbl_begin : vrl_begin)(&ctx, k, &store)) fail();
                 double mean = 0.0;
-                double t = time_samples(&ctx, store, m ? vbl_beam_light_camera_sample : vbl_vrl_camera_sample, threads, &mean);
+                double t = time_samples(&ctx, store, m ? vbl_vl_camera_sample : vbl_vl_camera_sample, threads, &mean);
                 printf("| %s | %d | %.1f | %.5g |\n", m ? "vbl" : "vrl", k, 1e6 * t, mean);
-                if (m) vbl_beam_light_pass_end(&ctx, store);
-                else vbl_vrl_pass_end(&ctx, store);
+                if (m) vbl_vl_pass_end(&ctx, store);
+                else vbl_vl_pass_end(&ctx, store);
             }
         }
         /* efficiency on one store: per-pixel variance of volume_from_volume over R camera samples
@@ -215,7 +215,7 @@ int main(int argc, char** argv)
                                 vbl_rng rng = vbl_rng_make(5, (uint32_t)r, (uint64_t)p);
                                 vbl_sample_value v;
                                 memset(&v, 0, sizeof v);
-                                (m ? vbl_beam_light_camera_sample : vbl_vrl_camera_sample)(&ctx, st, &ts, &cs, &rng, &v);
+                                (m ? vbl_vl_camera_sample : vbl_vl_camera_sample)(&ctx, st, &ts, &cs, &rng, &v);
                                 vbl_vec3 f = v.L[VBL_CLASS_VOLUME_FROM_VOLUME];
                                 double x = f.x + f.y + f.z;
                                 s1 += x;
@@ -234,8 +234,8 @@ int main(int argc, char** argv)
                     if (k == 0) base = eff;
                     printf("| %s | %d | %.4g | %.4g | %.1f | %.3g |\n", m ? "vbl" : "vrl", k, rel, smean / np, us,
                            base > 0.0 ? eff / base : NAN);
-                    if (m) vbl_beam_light_pass_end(&ctx, st);
-                    else vbl_vrl_pass_end(&ctx, st);
+                    if (m) vbl_vl_pass_end(&ctx, st);
+                    else vbl_vl_pass_end(&ctx, st);
                 }
                 snprintf(list, sizeof list, "%s", selects);
             }
@@ -243,7 +243,7 @@ int main(int argc, char** argv)
         /* concentration */
         void* store = NULL;
         if (vrl_begin(&ctx, 4, &store)) fail();
-        const vbl_photon_store* ph = vbl_vrl_store_photons(store);
+        const vbl_photon_store* ph = vbl_vl_photons(store);
         size_t n = ph->vrl_count;
         double* c = calloc(n ? n : 1, sizeof *c);
         double* acc = calloc(n ? n : 1, sizeof *acc);
@@ -370,7 +370,7 @@ int main(int argc, char** argv)
         free(q50);
         free(q90);
         free(q99);
-        vbl_vrl_pass_end(&ctx, store);
+        vbl_vl_pass_end(&ctx, store);
         vbl_scene_release(scene);
         fflush(stdout);
     }

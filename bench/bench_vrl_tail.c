@@ -100,8 +100,8 @@ int main(int argc, char** argv)
         st.camera_mis = camera_mis;
         st.transmittance_rr = rr;
         void* store = NULL;
-        if (vbl_vrl_pass_begin_with(&ctx, &st, &store)) return 1;
-        const vbl_photon_store* ph = vbl_vrl_store_photons(store);
+        if (vbl_vl_pass_begin(&ctx, &vbl_vl_kernel_ray, &st, &store)) return 1;
+        const vbl_photon_store* ph = vbl_vl_photons(store);
         const int M = o.max_bounces;
         const int np = (width * height + stride - 1) / stride;
         double* var = calloc((size_t)np * V_COUNT, sizeof(double));
@@ -120,9 +120,9 @@ int main(int argc, char** argv)
                 double s1[V_COUNT] = {0}, s2[V_COUNT] = {0}, mx = 0.0;
                 for (int r = 0; r < R; ++r) {
                     vbl_rng rng = vbl_rng_make(11, (uint32_t)r, (uint64_t)p);
-                    vbl_vrl_camera cam;
+                    vbl_vl_camera cam;
                     double x[V_COUNT] = {0};
-                    if (vbl_vrl_camera_cache(&ctx, store, &ts, org, dir, INFINITY, &rng, &cam)) {
+                    if (vbl_vl_camera_cache(&ctx, store, &ts, org, dir, INFINITY, &rng, &cam)) {
                         for (size_t j = 0; j < ph->vrl_count; ++j) {
                             if (M >= 0 && ph->vrls[j].bounce + 2 > M) continue;
                             vbl_vrl_factors f;
@@ -154,7 +154,7 @@ int main(int argc, char** argv)
                 peak[q] = s1[V_FULL] > 0.0 ? mx / (s1[V_FULL] / R) : -1.0;
             }
         }
-        /* cost of the estimator itself (vbl_vrl_camera_sample, 4 samples per pixel of the subset) */
+        /* cost of the estimator itself (vbl_vl_camera_sample, 4 samples per pixel of the subset) */
         double t0 = omp_get_wtime();
 #pragma omp parallel num_threads(threads)
         {
@@ -172,7 +172,7 @@ int main(int argc, char** argv)
                     vbl_rng rng = vbl_rng_make(13, (uint32_t)r, (uint64_t)p);
                     vbl_sample_value v;
                     memset(&v, 0, sizeof v);
-                    vbl_vrl_camera_sample(&ctx, store, &ts, &cs, &rng, &v);
+                    vbl_vl_camera_sample(&ctx, store, &ts, &cs, &rng, &v);
                 }
             }
         }
@@ -198,7 +198,7 @@ int main(int argc, char** argv)
         free(var);
         free(mean);
         free(peak);
-        vbl_vrl_pass_end(&ctx, store);
+        vbl_vl_pass_end(&ctx, store);
         vbl_scene_release(scene);
         fflush(stdout);
     }

@@ -292,8 +292,8 @@ static vbl_result vrl_count_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings st;
     vbl_vrl_settings_from_options(&ctx->options, &st);
-    vbl_result r = vbl_vrl_pass_begin_with(ctx, &st, store);
-    if (!r) g_vsl_count += vbl_vrl_store_photons(*store)->surface_vsl_count;
+    vbl_result r = vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &st, store);
+    if (!r) g_vsl_count += vbl_vl_photons(*store)->surface_vsl_count;
     return r;
 }
 
@@ -352,9 +352,9 @@ static vbl_result vpl_surface_only_begin(const vbl_render_context* ctx, void** s
 {
     vbl_vpl_settings st;
     vbl_vpl_settings_from_options(&ctx->options, &st);
-    vbl_result r = vbl_vpl_pass_begin_with(ctx, &st, store);
+    vbl_result r = vbl_vl_pass_begin(ctx, &vbl_vl_kernel_point, &st, store);
     if (!r) {
-        vbl_photon_store* p = vbl_vpl_store_photons(*store);
+        vbl_photon_store* p = vbl_vl_photons_mutable(*store);
         p->vpl_count = 0;
         p->surface_vsl_count = 0;
     }

@@ -87,23 +87,23 @@ static vbl_result vrl_probe_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings s;
     vbl_vrl_settings_from_options(&ctx->options, &s);
-    vbl_result r = vbl_vrl_pass_begin_with(ctx, &s, store);
+    vbl_result r = vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
     if (r) return r;
-    const vbl_photon_store* p = vbl_vrl_store_photons(*store);
+    const vbl_photon_store* p = vbl_vl_photons(*store);
     g_vsl_count += p->surface_vsl_count; /* pass_begin is the driver's single-threaded entry */
     for (size_t i = 0; i < p->surface_vsl_count; ++i)
         if (g_max_bounces >= 0 && p->surface_vsls[i].bounce + 2 > g_max_bounces) ++g_vsl_bad_bounce;
     return VBL_SUCCESS;
 }
-static const vbl_estimator vrl_probe = {"vrl-probe", 1, vrl_probe_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator vrl_probe = {"vrl-probe", 1, vrl_probe_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 static vbl_result vrl_r05_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.surface_radius0 = 0.5;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator vrl_r05 = {"vrl-r05", 1, vrl_r05_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator vrl_r05 = {"vrl-r05", 1, vrl_r05_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 /* What virtual_beam_lights.c gets (the lines handed to the lead): surface_from_volume by VBL eqs 8-9 with
  * R_p from R_0 = 0.5 (eq 11) on the VRL store, and in the volume_direct slot the unbiased eq 6
@@ -119,14 +119,14 @@ static void vbl_surface_sample(const vbl_render_context* ctx, const void* store,
     gs.kernel_samples = VBL_SURFACE_KERNEL_SAMPLES_DEFAULT;
     vbl_sample_value tmp;
     memset(&tmp, 0, sizeof tmp);
-    vbl_surface_gather_hit(ctx, ts, vbl_vrl_store_photons(store), &gs, sample, rng, &tmp);
+    vbl_surface_gather_hit(ctx, ts, vbl_vl_photons(store), &gs, sample, rng, &tmp);
     out->L[VBL_CLASS_SURFACE_FROM_VOLUME] = tmp.L[VBL_CLASS_SURFACE_FROM_VOLUME];
     gs.vrl_radius = 0.0;
     memset(&tmp, 0, sizeof tmp);
-    vbl_surface_gather_hit(ctx, ts, vbl_vrl_store_photons(store), &gs, sample, rng, &tmp);
+    vbl_surface_gather_hit(ctx, ts, vbl_vl_photons(store), &gs, sample, rng, &tmp);
     out->L[VBL_CLASS_VOLUME_DIRECT] = tmp.L[VBL_CLASS_SURFACE_FROM_VOLUME];
 }
-static const vbl_estimator vbl_surface = {"vbl-surface", 1, vrl_r05_begin, vbl_surface_sample, vbl_vrl_pass_end};
+static const vbl_estimator vbl_surface = {"vbl-surface", 1, vrl_r05_begin, vbl_surface_sample, vbl_vl_pass_end};
 
 /* ---- fast ---------------------------------------------------------------------------------- */
 

@@ -34,27 +34,27 @@ static vbl_result long_vrl_begin(const vbl_render_context* ctx, void** store)
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.long_vrls = 1;
     s.samples = 2;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator long_vrl = {"vrl-long", 1, long_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator long_vrl = {"vrl-long", 1, long_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 static vbl_result rr_vrl_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.rr_radius = 0.2;
     s.rr_min_probability = 0.2;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator rr_vrl = {"vrl-rr", 1, rr_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator rr_vrl = {"vrl-rr", 1, rr_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 /* light-tree selection: 4 VRLs per camera sample (vrl_tree.h) */
 static vbl_result sel_vrl_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.select = 4;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 /* transmittance-aware pair sampling (sampling/vrl_camera_mis.h) with the low roulette threshold */
 static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
@@ -62,9 +62,9 @@ static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.camera_mis = 1;
     s.transmittance_rr = 0.01;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end};
+static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 typedef struct scene_case {
     vbl_scene* scene;

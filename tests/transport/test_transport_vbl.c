@@ -190,9 +190,9 @@ static void test_extremes(void** state)
 static vbl_beam_light_settings g_fixed;
 static vbl_result fixed_pass_begin(const vbl_render_context* ctx, void** store)
 {
-    return vbl_beam_light_pass_begin_with(ctx, &g_fixed, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_beam, &g_fixed, store);
 }
-static const vbl_estimator fixed_vbl = {"vbl-fixed", 1, fixed_pass_begin, vbl_beam_light_camera_sample, vbl_beam_light_pass_end};
+static const vbl_estimator fixed_vbl = {"vbl-fixed", 1, fixed_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
 /* Mean over pixels of the per-pixel variance of volume_from_volume (mean of RGB) over K seeds. */
 static double pixel_variance(const vbl_scene* s, const vbl_estimator* est, int K, int res, double* mean_out)

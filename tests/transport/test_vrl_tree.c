@@ -168,7 +168,7 @@ static vbl_result vrl_begin(const vbl_render_context* ctx, int select, void** st
 {
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
     s.select = select;
-    return vbl_vrl_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
 
 static vbl_result vbl_begin(const vbl_render_context* ctx, int select, void** store)
@@ -178,7 +178,7 @@ static vbl_result vbl_begin(const vbl_render_context* ctx, int select, void** st
     s.radius0 = 0.05;
     s.alpha = 1.0;
     s.kernel_samples = 4;
-    return vbl_beam_light_pass_begin_with(ctx, &s, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_beam, &s, store);
 }
 
 static void same_store(const char* tag, begin_fn begin, sample_fn sample, void (*end)(const vbl_render_context*, void*),
@@ -245,16 +245,16 @@ static const vbl_photon_store* vbl_store_photons(const void* store); /* below */
 static void test_same_store_vrl(void** state)
 {
     (void)state;
-    same_store("vrl", vrl_begin, vbl_vrl_camera_sample, vbl_vrl_pass_end, vbl_vrl_store_photons);
+    same_store("vrl", vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end, vbl_vl_photons);
 }
 
 static void test_same_store_vbl(void** state)
 {
     (void)state;
-    same_store("vbl", vbl_begin, vbl_beam_light_camera_sample, vbl_beam_light_pass_end, vbl_store_photons);
+    same_store("vbl", vbl_begin, vbl_vl_camera_sample, vbl_vl_pass_end, vbl_store_photons);
 }
 
-static const vbl_photon_store* vbl_store_photons(const void* store) { return vbl_beam_light_store_photons(store); }
+static const vbl_photon_store* vbl_store_photons(const void* store) { return vbl_vl_photons(store); }
 
 int main(void)
 {

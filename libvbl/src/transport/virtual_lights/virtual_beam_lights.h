@@ -1,4 +1,5 @@
-/* Virtual beam lights, media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10): the VRL
+/* Virtual beam lights, media-to-media (Novak et al. 2012 (VBL), section 3.2, eq. 10), the beam
+ * kernel of the virtual-light estimator (virtual_lights.h): the VRL
  * estimator (transport/virtual_lights/vrl.h) with every point of a VRL inflated into a volumetric VSL of radius
  * R_p, progressively shrunk per pass (eq 11, transport/common/radius_schedule.h, d = 2).
  *
@@ -21,7 +22,7 @@
  * transport/common/light_emission.h) and the total length of THIS pass's VRLs (deterministic: the store
  * depends only on scene, seed and pass). Bias ~ R^2 falls like p^(alpha - 1), variance of the
  * pass average like p^(-alpha) (radius_schedule.h): both -> 0 with fixed memory per pass.
- * alpha = 1 (only through vbl_beam_light_pass_begin_with) keeps R fixed (tests).
+ * alpha = 1 (only through vbl_vl_pass_begin with explicit settings) keeps R fixed (tests).
  * Issue 13 item 4: the VSL at x has radius min(R_p, s_p radius_mfp / sigma_t(x)) (optical units,
  * s_p = R_p / R_0); the pair sampler uses min(R_p, s_p radius_mfp / majorant), below every VSL's
  * radius; R_p == 0 is the VRL limit (the VRL sampler and f f / w^2); the kernel is the thin-cone
@@ -30,6 +31,7 @@
 #define VBL_TRANSPORT_VBL_BEAMS_H
 
 #include "transport/common/estimator.h"
+#include "transport/virtual_lights/virtual_lights.h"
 
 typedef struct vbl_beam_light_settings {
     double radius0;     /* world units; <= 0: default from scene scale and VRL density */
@@ -70,18 +72,9 @@ typedef struct vbl_beam_light_settings {
  * beams_radius0, beams_alpha (0: 0.7). */
 void vbl_beam_light_settings_from_options(const vbl_render_options* options, vbl_beam_light_settings* out);
 
+/* The estimator: vbl_vl_pass_begin(ctx, &vbl_vl_kernel_beam, &settings, store),
+ * vbl_vl_camera_sample and vbl_vl_pass_end (virtual_lights.h) with these settings; the photon
+ * store: vbl_vl_photons. */
 extern const vbl_estimator vbl_estimator_vbl;
-
-vbl_result vbl_beam_light_pass_begin_with(const vbl_render_context* ctx, const vbl_beam_light_settings* settings, void** store);
-void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
-                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
-void vbl_beam_light_pass_end(const vbl_render_context* ctx, void* store);
-/* The VSL radius R_p the store uses (world units; tests, diagnostics). */
-double vbl_beam_light_store_radius(const void* store);
-/* The radius of a VSL at a point of extinction sigma_t: min(R_p, s_p radius_mfp / sigma_t). */
-double vbl_beam_light_store_radius_at(const void* store, double sigma_t);
-/* The pass's photon store (tests). */
-struct vbl_photon_store;
-const struct vbl_photon_store* vbl_beam_light_store_photons(const void* store);
 
 #endif

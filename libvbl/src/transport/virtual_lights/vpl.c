@@ -1,64 +1,12 @@
-/* Virtual point lights along camera rays (vpl.h). */
+/* Virtual point lights along camera rays: the point kernel (vpl.h, virtual_lights_kernel.h). */
 #include "transport/virtual_lights/vpl.h"
 
 #include <math.h>
-#include <stdlib.h>
 
 #include "core/error.h"
 #include "sampling/equiangular.h"
-#include "sampling/phase_hg.h"
 #include "media/medium.h"
-#include "transport/common/emission_estimate.h"
-#include "transport/common/light_emission.h"
-#include "transport/common/photon_trace.h"
-#include "transport/common/single_scatter.h"
-#include "transport/surface/surface_gather.h"
-#include "volume/transmittance_cache.h"
-
-typedef struct vbl_vpl_store {
-    vbl_vpl_settings settings;
-    vbl_photon_store photons;
-    vbl_surface_gather_settings gather; /* surfaces: VPLs and surface VSLs as point lights */
-} vbl_vpl_store;
-
-vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store)
-{
-    *store = NULL;
-    if (!(settings->clamp_distance >= 0.0 && isfinite(settings->clamp_distance)))
-        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vpl clamp_distance = %g must be finite and >= 0",
-                         ctx->scene->path, settings->clamp_distance);
-    vbl_vpl_store* s = calloc(1, sizeof *s);
-    if (!s) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory (vpl store)", ctx->scene->path);
-    s->settings = *settings;
-    vbl_photon_settings ps = {0, 1, 0, VBL_TRANSMITTANCE_CACHED_RATIO, 16};
-    vbl_result r = vbl_photon_trace_with_surfaces(ctx, &ps, ctx->scene->surfaces != NULL, &s->photons);
-    if (r) {
-        free(s);
-        return r;
-    }
-    vbl_medium_point media;
-    vbl_medium_point_scene(ctx->scene, &media);
-    s->gather.vpls = 1;
-    s->gather.clamp_distance = settings->clamp_distance; /* surface VSLs are VPLs: R = 0 */
-    s->gather.g_camera = vbl_medium_mean_g(&media); /* the camera samplers' hint */
-    if ((r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
-        vbl_photon_store_free(&s->photons);
-        free(s);
-        return r;
-    }
-    *store = s;
-    return VBL_SUCCESS;
-}
-
-vbl_photon_store* vbl_vpl_store_photons(void* store)
-{
-    return store ? &((vbl_vpl_store*)store)->photons : NULL;
-}
-
-vbl_surface_gather_settings* vbl_vpl_store_gather(void* store)
-{
-    return store ? &((vbl_vpl_store*)store)->gather : NULL;
-}
+#include "transport/virtual_lights/virtual_lights_kernel.h"
 
 void vbl_vpl_settings_from_options(const vbl_render_options* o, vbl_vpl_settings* out)
 {
@@ -67,74 +15,72 @@ void vbl_vpl_settings_from_options(const vbl_render_options* o, vbl_vpl_settings
     out->clamp_distance = o->vpl.clamp_distance;
 }
 
+static vbl_result vbl_vpl_begin(const vbl_render_context* ctx, const void* settings_, vbl_vl_store* s)
+{
+    const vbl_vpl_settings* settings = settings_;
+    if (!(settings->clamp_distance >= 0.0 && isfinite(settings->clamp_distance)))
+        return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "%s: vpl clamp_distance = %g must be finite and >= 0",
+                         ctx->scene->path, settings->clamp_distance);
+    s->point = *settings;
+    s->trace.store_vpls = 1;
+    s->trace.cache_kind = VBL_TRANSMITTANCE_CACHED_RATIO;
+    s->trace.cache_entries = 16;
+    return VBL_SUCCESS;
+}
+
+static vbl_result vbl_vpl_after_trace(const vbl_render_context* ctx, vbl_vl_store* s)
+{
+    vbl_medium_point media;
+    vbl_medium_point_scene(ctx->scene, &media);
+    s->g_camera = vbl_medium_mean_g(&media); /* the camera samplers' hint */
+    s->gather.vpls = 1;
+    s->gather.clamp_distance = s->point.clamp_distance; /* surface VSLs are VPLs: R = 0 */
+    s->gather.g_camera = s->g_camera;
+    return VBL_SUCCESS;
+}
+
+/* VPL j's volume_from_volume (vpl.h): u equiangular toward the VPL, one sample. */
+static void vbl_vpl_estimate(const vbl_vl_gather* g, size_t j, double v0, double v1, double weight)
+{
+    (void)v0, (void)v1, (void)weight; /* points: the whole light, weight 1 */
+    const vbl_render_context* ctx = g->ctx;
+    const vbl_vl_store* s = g->s;
+    const vbl_scene* scene = ctx->scene;
+    const vbl_vec3 o = g->cam->ray.origin, d = g->cam->ray.direction;
+    const double u0 = g->cam->ray.t0, u1 = g->cam->ray.t1;
+    const double clamp2 = s->point.clamp_distance * s->point.clamp_distance;
+    vbl_medium_point mu;
+    const vbl_vpl* p = &s->photons.vpls[j];
+    double pdf = 0.0;
+    double u = vbl_equiangular_sample(o, d, u0, u1, p->position, vbl_rng_uniform(g->rng), &pdf);
+    if (!(pdf > 0.0)) return;
+    vbl_vec3 xu = vbl_v3_madd(o, d, u);
+    vbl_vec3 to = vbl_v3_sub(xu, p->position);
+    double w2 = vbl_v3_dot(to, to);
+    if (!(w2 > 0.0)) return;
+    double w = sqrt(w2);
+    vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VPL -> x_u */
+    double sigma_t = vbl_medium_query(scene, ctx->extinction, &g->ts->cursor, xu, &mu);
+    if (!(sigma_t > 0.0)) return;
+    double Tc = vbl_transmittance_cache_eval(&g->cam->cache, u);
+    if (!(Tc > 0.0)) return;
+    vbl_vec3 ku = vbl_medium_phase_kernel(&mu, -vbl_v3_dot(omega, d));
+    vbl_vec3 iv = vbl_vpl_intensity(scene, p, vbl_v3_dot(p->incident, omega));
+    vbl_vec3 f = vbl_v3_mul(ku, iv);
+    if (!(vbl_v3_max_component(f) > 0.0)) return;
+    double Tw = vbl_ctx_transmittance(ctx, g->ts, p->position, omega, w, g->rng);
+    if (!(Tw > 0.0)) return;
+    double geom = 1.0 / (clamp2 > w2 ? clamp2 : w2);
+    *g->acc = vbl_v3_madd(*g->acc, f, Tc * Tw * geom / pdf);
+}
+
+const vbl_vl_kernel vbl_vl_kernel_point = {"vpl", 1, 1, 0, vbl_vpl_begin, vbl_vpl_after_trace, vbl_vpl_estimate};
+
 static vbl_result vbl_vpl_pass_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vpl_settings settings;
     vbl_vpl_settings_from_options(&ctx->options, &settings);
-    return vbl_vpl_pass_begin_with(ctx, &settings, store);
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_point, &settings, store);
 }
 
-void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store)
-{
-    (void)ctx;
-    vbl_vpl_store* s = store;
-    if (!s) return;
-    vbl_surface_gather_blue_noise_end(&s->gather);
-    vbl_photon_store_free(&s->photons);
-    free(s);
-}
-
-void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
-                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
-{
-    const vbl_vpl_store* s = store;
-    const vbl_scene* scene = ctx->scene;
-    const vbl_vec3 o = sample->origin, d = sample->direction;
-    const int M = ctx->options.max_bounces;
-    vbl_add_visible_emission(ctx, ts, o, d, rng, out);
-    vbl_camera_media_emission(ctx, ts, sample, VBL_EMISSION_DIRECT_VOLUME | VBL_EMISSION_DIRECT_SURFACE, rng, out);
-    if (M != 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT))
-        vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
-    if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
-    if (!s || (s->photons.vpl_count == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;
-    /* render.hybrid: with both media classes of the camera segment owned by pt, no segment work */
-    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME) && !vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_SURFACE)) return;
-
-    vbl_transmittance_cache cache;
-    double u0, u1;
-    if (!vbl_camera_segment_cache_to(ctx, ts, o, d, sample->t_max, rng, &cache, &u0, &u1)) return;
-    vbl_surface_gather_segment(ctx, ts, &s->photons, &s->gather, sample, &cache, u0, u1, rng, out);
-    const double clamp2 = s->settings.clamp_distance * s->settings.clamp_distance;
-    vbl_medium_point mu;
-    vbl_vec3 acc = vbl_v3(0.0, 0.0, 0.0);
-    if (!vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_FROM_VOLUME)) return; /* render.hybrid: pt owns it */
-    for (size_t j = 0; j < s->photons.vpl_count; ++j) {
-        if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
-        const vbl_vpl* p = &s->photons.vpls[j];
-        if (M >= 0 && p->bounce + 1 > M) continue;
-        double pdf = 0.0;
-        double u = vbl_equiangular_sample(o, d, u0, u1, p->position, vbl_rng_uniform(rng), &pdf);
-        if (!(pdf > 0.0)) continue;
-        vbl_vec3 xu = vbl_v3_madd(o, d, u);
-        vbl_vec3 to = vbl_v3_sub(xu, p->position);
-        double w2 = vbl_v3_dot(to, to);
-        if (!(w2 > 0.0)) continue;
-        double w = sqrt(w2);
-        vbl_vec3 omega = vbl_v3_scale(to, 1.0 / w); /* light travels VPL -> x_u */
-        double sigma_t = vbl_medium_query(scene, ctx->extinction, &ts->cursor, xu, &mu);
-        if (!(sigma_t > 0.0)) continue;
-        double Tc = vbl_transmittance_cache_eval(&cache, u);
-        if (!(Tc > 0.0)) continue;
-        vbl_vec3 ku = vbl_medium_phase_kernel(&mu, -vbl_v3_dot(omega, d));
-        vbl_vec3 iv = vbl_vpl_intensity(scene, p, vbl_v3_dot(p->incident, omega));
-        vbl_vec3 f = vbl_v3_mul(ku, iv);
-        if (!(vbl_v3_max_component(f) > 0.0)) continue;
-        double Tw = vbl_ctx_transmittance(ctx, ts, p->position, omega, w, rng);
-        if (!(Tw > 0.0)) continue;
-        double geom = 1.0 / (clamp2 > w2 ? clamp2 : w2);
-        acc = vbl_v3_madd(acc, f, Tc * Tw * geom / pdf);
-    }
-    out->L[VBL_CLASS_VOLUME_FROM_VOLUME] = vbl_v3_add(out->L[VBL_CLASS_VOLUME_FROM_VOLUME], acc);
-}
-
-const vbl_estimator vbl_estimator_vpl = {"vpl", 1, vbl_vpl_pass_begin, vbl_vpl_camera_sample, vbl_vpl_pass_end};
+const vbl_estimator vbl_estimator_vpl = {"vpl", 1, vbl_vpl_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end};

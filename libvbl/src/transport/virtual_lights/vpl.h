@@ -1,5 +1,7 @@
 /* Virtual point lights in media (VRL paper eq. 4, integrated along the camera ray by eq. 2).
  *
+ * The point kernel of the virtual-light estimator (virtual_lights.h: the pass, the camera-ray
+ * cache, single scattering, the surface gathers and hybrid masks are shared there).
  * Per pass: photon tracing (photon_trace.h) stores the scattering vertices as VPLs. Per camera
  * sample, with [u0, u1] the camera ray's overlap with the media:
  *   emission        quad/environment lights seen directly, attenuated (light_emission.h);
@@ -20,6 +22,7 @@
 #define VBL_TRANSPORT_VPL_H
 
 #include "transport/common/estimator.h"
+#include "transport/virtual_lights/virtual_lights.h"
 
 typedef struct vbl_vpl_settings {
     double clamp_distance; /* world units; 0: no clamping (default, unbiased) */
@@ -30,17 +33,8 @@ typedef struct vbl_vpl_settings {
 /* The settings of render options (vpl_clamp_distance); vbl_estimator_vpl uses these. */
 void vbl_vpl_settings_from_options(const vbl_render_options* options, vbl_vpl_settings* out);
 
+/* The estimator: vbl_vl_pass_begin(ctx, &vbl_vl_kernel_point, &settings, store),
+ * vbl_vl_camera_sample and vbl_vl_pass_end (virtual_lights.h) with these settings. */
 extern const vbl_estimator vbl_estimator_vpl;
-
-/* The estimator's pieces with explicit settings (tests and benchmarks build variants). */
-vbl_result vbl_vpl_pass_begin_with(const vbl_render_context* ctx, const vbl_vpl_settings* settings, void** store);
-void vbl_vpl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
-                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
-void vbl_vpl_pass_end(const vbl_render_context* ctx, void* store);
-/* The photon store of a pass's vpl store (benchmarks swap in other VPL sets; the store frees
- * whatever vpls array it holds at pass end with free()). */
-struct vbl_photon_store* vbl_vpl_store_photons(void* store);
-/* Its surface gather settings (benchmarks and tests compare variants). */
-struct vbl_surface_gather_settings* vbl_vpl_store_gather(void* store);
 
 #endif

@@ -1,4 +1,6 @@
-/* Virtual ray lights (Novak et al. 2012 (VRL), section 3): media-to-media transport from
+/* Virtual ray lights (Novak et al. 2012 (VRL), section 3), the ray kernel of the virtual-light
+ * estimator (virtual_lights.h owns the pass, the camera-ray cache, single scattering, the surface
+ * gathers, the light tree and hybrid masks): media-to-media transport from
  * photon path segments to whole camera rays, eq. (7):
  *   L = Phi int_u0^u1 int_0^len sigma_s(u) sigma_s(v) f(theta_u) f(theta_v) T_c(u) T_l(v) T(w)
  *                                  / w(u,v)^2 dv du
@@ -44,6 +46,7 @@
 #define VBL_TRANSPORT_VRL_H
 
 #include "transport/common/estimator.h"
+#include "transport/virtual_lights/virtual_lights.h"
 #include "volume/transmittance_cache.h"
 
 typedef struct vbl_vrl_settings {
@@ -69,35 +72,10 @@ typedef struct vbl_vrl_settings {
 #define VBL_VRL_SETTINGS_DEFAULT {1, 0, 0, 0.0, 0.0, 0.1, 0.0, 0.0, 0, 0, 0.1}
 
 struct vbl_step_pdf;
-/* The camera ray inside the media as vrl gathers along it: ray = (origin, direction, [u0, u1]),
- * the media overlap, and the cached transmittance T(u) on it. */
-typedef struct vbl_vrl_camera {
-    vbl_segment ray;
-    vbl_transmittance_cache cache;
-} vbl_vrl_camera;
-/* The camera ray's media overlap [u0, u1] (first t_max units) and its cached transmittance as the
- * store's settings build it (vbl_camera_segment_cache_to with transmittance_rr). 0: misses. */
-int vbl_vrl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, vbl_vec3 origin,
-                         vbl_vec3 direction, double t_max, vbl_rng* rng, vbl_vrl_camera* out);
-
 /* The camera ray's cached transmittance on [u0, u1] as a step density (the u density of the
  * camera technique, vrl_camera_mis.h). Returns 0 if it has no usable mass. */
 int vbl_vrl_camera_step_pdf(const struct vbl_transmittance_cache* cache, double u0, double u1,
                             struct vbl_step_pdf* out);
-
-/* Light-tree selection: distance floor as a fraction of the media's bounding radius, and the
- * camera transmittance below which the camera segment is not used for the importance. */
-#define VBL_VRL_SELECT_FLOOR_REL 1e-3
-#define VBL_VRL_SELECT_VISIBLE_CUT 1e-3
-#define VBL_VRL_SELECT_DENSITY_POINTS 4 /* sigma_s samples along a piece for its tree mass */
-#define VBL_VRL_SELECT_PIECE_REL 0.05   /* tree pieces at most this x the media's bounding radius */
-
-struct vbl_vrl_tree;
-struct vbl_photon_store;
-/* The light tree of a pass's photon store as the vrl and vbl estimators build it (floor
- * VBL_VRL_SELECT_FLOOR_REL x the media's bounding radius, ctx->options.max_bounces). */
-vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const struct vbl_photon_store* photons,
-                                     struct vbl_vrl_tree* tree);
 
 /* The settings of render options (vrl_* fields; zeros in samples / min probability mean the
  * defaults). The estimator vbl_estimator_vrl uses these. */
@@ -105,21 +83,9 @@ void vbl_vrl_settings_from_options(const vbl_render_options* options, vbl_vrl_se
 
 extern const vbl_estimator vbl_estimator_vrl;
 
-/* The estimator's pieces with explicit settings (tests and benchmarks build variants). */
-vbl_result vbl_vrl_pass_begin_with(const vbl_render_context* ctx, const vbl_vrl_settings* settings, void** store);
-void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
-                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
-void vbl_vrl_pass_end(const vbl_render_context* ctx, void* store);
-/* The pass's surface VSL radius R_p (0 without surfaces; tests, diagnostics). */
-double vbl_vrl_store_surface_radius(const void* store);
-/* The pass's photon store (tests). */
-struct vbl_photon_store;
-const struct vbl_photon_store* vbl_vrl_store_photons(const void* store);
-
-/* One estimate of T along a + t dir, t in [0, len] (the segment connecting a virtual-light point
- * and a camera-ray point), clipped to the media; 1 outside them; 0 when a surface blocks it. */
-double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
-                                     vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng);
+/* The estimator is vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &settings, store),
+ * vbl_vl_camera_sample and vbl_vl_pass_end (virtual_lights.h) with these settings; the photon
+ * store: vbl_vl_photons. */
 
 /* Diagnostics (bench/bench_vrl_profile.c): each VRL's volume_from_volume estimate (sum of R, G,
  * B) for one camera sample into contribution[0 .. vrl_count-1] (0 for VRLs that cannot
@@ -132,7 +98,7 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
                           double* pdf);
 
 /* Diagnostics (bench/bench_vrl_tail.c): the factors of one pair-sampler draw of eq 7 for VRL
- * `vrl` of the store (whole VRL) and the camera segment with its cache (vbl_vrl_camera_cache): the estimate is
+ * `vrl` of the store (whole VRL) and the camera segment with its cache (vbl_vl_camera_cache): the estimate is
  * f Tc Tl Tw / (w2 pdf) with f = sum RGB of the two scattering kernels times the power;
  * phase_geometry = the sampler's target (vrl_pair.h); tw_march / tc_march: ray-marched
  * (near-exact) transmittances of the connection and of the camera ray to u. Returns 0 when the
@@ -141,9 +107,6 @@ typedef struct vbl_vrl_factors {
     double pdf, w2, phase_geometry, tc, tl, tw, tw_march, tc_march, sigma_u, sigma_v, f, power;
 } vbl_vrl_factors;
 int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts, size_t vrl,
-                           const vbl_vrl_camera* camera, vbl_rng* rng, vbl_vrl_factors* out);
-
-/* Minimum distance between segments p0 + s a (s in [0, la]) and q0 + t b (t in [0, lb]), unit a, b. */
-double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb);
+                           const vbl_vl_camera* camera, vbl_rng* rng, vbl_vrl_factors* out);
 
 #endif
