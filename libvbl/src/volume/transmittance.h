@@ -37,6 +37,32 @@ static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
     return next > t ? next : nextafter(t, INFINITY);
 }
 
+/* The next tentative collision of a Poisson process of piecewise-constant rate, with ONE
+ * exponential optical depth carried across segments: *tau (< 0: none drawn yet) is the depth
+ * left to the next collision, drawn ~ Exp(1) once and reduced by mu x length over each segment
+ * it crosses; a collision costs one log, a crossed segment none. By memorylessness the depth
+ * left after a crossing is again Exp(1) and independent of the past, so the points are the same
+ * process as a fresh vbl_exp_step per segment (the optical-depth inversion of regular tracking
+ * over piecewise-constant cells, Novak et al. 2018, "Monte Carlo methods for volumetric light
+ * transport simulation", applied to the majorant segments). Returns 1
+ * with *t moved to the collision if it lies in (*t, t1), else 0 with the depth to carry on (a
+ * collision that rounds onto t1 is dropped and the next segment draws afresh: below an ulp). */
+static inline int vbl_exp_carry_step(double* tau, double* t, double t1, double mu, vbl_rng* rng)
+{
+    if (!(*tau >= 0.0)) *tau = -log1p(-vbl_rng_uniform(rng));
+    const double room = mu * (t1 - *t);
+    if (*tau >= room) {
+        *tau -= room;
+        return 0;
+    }
+    double next = *t + *tau / mu;
+    *tau = -1.0;
+    if (!(next > *t)) next = nextafter(*t, INFINITY);
+    if (next >= t1) return 0;
+    *t = next;
+    return 1;
+}
+
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached
  * estimators are not valid here (use transmittance_cache.h). */
 double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_cursor* cursor,
