@@ -1,8 +1,9 @@
-/* bench_volume [FILE.vdb] [--density-scale S] [--gap] [--coarse-depth K] [--coarse-ratio R]: density lookups/s (PNanoVDB trilinear vs OpenVDB
+/* bench_volume [FILE.vdb] [--density-scale S] [--gap] [--exact R] [--coarse-depth K] [--coarse-ratio R]: density lookups/s (PNanoVDB trilinear vs OpenVDB
  * ValueAccessor + BoxSampler), majorant block sizes, and transmittance queries/s, variance and
  * efficiency (1 / (variance x time)) for every estimator and cache at 1 and 2 threads, and ratio /
  * residual tracking at k x the majorant (vbl_tracking_settings.majorant_scale); --gap adds unbiased
- * ray marching (transmittance_unbiased_march.h) at several march densities. */
+ * ray marching (transmittance_unbiased_march.h) at several march densities; --exact R compares the
+ * trackers' mean T with the exact mean over the rays in R independent replicas (z-scores). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -78,6 +79,7 @@ static double g_coarse_depth = -9.0;  /* --coarse-depth: vbl_extinction.coarse_d
 static double g_coarse_ratio = -1.0;  /* --coarse-ratio: vbl_extinction.coarse_ratio (< 0: default) */
 static int g_unbiased = 0;            /* 1: run_estimator runs unbiased ray marching with g_um */
 static vbl_unbiased_march_params g_um;
+static uint64_t g_seed = 0;           /* added to run_estimator's seed (--exact replicas; 0 elsewhere) */
 
 /* Runs `spr` estimates on each ray; returns seconds; fills mean per-ray variance and lookups. */
 static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, int nrays, int spr,
@@ -96,7 +98,7 @@ static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, in
         for (int r = 0; r < nrays; ++r) {
             double s = 0.0, s2 = 0.0;
             for (int k = 0; k < spr; ++k) {
-                vbl_rng rng = vbl_rng_make(77, (uint64_t)r, (uint64_t)k);
+                vbl_rng rng = vbl_rng_make(77 + g_seed, (uint64_t)r, (uint64_t)k);
                 double x;
                 if (g_unbiased) {
                     x = vbl_transmittance_unbiased_march(ext, &cur, rays[r].o, rays[r].d, 0.0, rays[r].t1, use_global,
@@ -236,14 +238,72 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
     return 0;
 }
 
+/* --exact R (issue 14 item 5, helper expcarry): is the tracking core's mean T in the thick cloud
+ * off? Exact per-ray T = exp(-optical depth), the depth by the midpoint rule at 1/32 voxel (error
+ * ~1e-4 relative); R replicas of run_estimator (16 queries per ray, seeds 77 + rep) per tracker;
+ * z = (mean - exact) / s.e., s.e. = sqrt(mean per-ray variance / (16 rays)). Unbiased: z ~ N(0, 1)
+ * per replica, and the pooled z over all replicas too. */
+static int run_exact(vbl_volume* v, const vbl_volume_info* info, double scale, int reps)
+{
+    const int nrays = 2000;
+    bench_ray* rays = malloc(sizeof *rays * (size_t)nrays);
+    make_rays(info, rays, nrays);
+    if (scale <= 0.0) scale = 4.0 / (info->value_max * 64.0 * info->voxel_size[0]);
+    printf("| medium | estimator | exact mean T | replicas | pooled mean T | pooled s.e. | pooled z | z min / max | "
+           "mean z^2 |\n|---|---|---|---|---|---|---|---|---|\n");
+    for (int thin = 0; thin < 2; ++thin) {
+        vbl_extinction ext;
+        vbl_extinction_init(&ext);
+        vbl_extinction_add(&ext, v, thin ? 0.25 * scale : scale, NULL);
+        vbl_extinction_cursor cur;
+        vbl_extinction_cursor_init(&cur, &ext);
+        double exact = 0.0;
+        const double h = info->voxel_size[0] / 32.0;
+        for (int r = 0; r < nrays; ++r) {
+            const int steps = (int)ceil(rays[r].t1 / h);
+            const double dt = rays[r].t1 / steps;
+            double tau = 0.0;
+            for (int i = 0; i < steps; ++i)
+                tau += vbl_extinction_eval(&ext, &cur, vbl_v3_madd(rays[r].o, rays[r].d, (i + 0.5) * dt), NULL);
+            exact += exp(-tau * dt);
+        }
+        exact /= nrays;
+        const vbl_transmittance_estimator ests[] = {VBL_TRANSMITTANCE_DELTA_TRACKING, VBL_TRANSMITTANCE_RATIO_TRACKING,
+                                                    VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING,
+                                                    VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING};
+        for (int e = 0; e < 4; ++e) {
+            double sm = 0.0, sv = 0.0, zmin = 1e300, zmax = -1e300, z2 = 0.0;
+            g_residual_mid = e == 3;
+            for (int rep = 0; rep < reps; ++rep) {
+                double var, mt, lq;
+                g_seed = (uint64_t)rep;
+                run_estimator(&ext, rays, nrays, 16, ests[e], 0, 2, &var, &mt, &lq);
+                const double se2 = var / (16.0 * nrays), z = (mt - exact) / sqrt(se2);
+                sm += mt, sv += se2, z2 += z * z;
+                zmin = fmin(zmin, z), zmax = fmax(zmax, z);
+            }
+            g_seed = 0;
+            g_residual_mid = 0;
+            const double pm = sm / reps, pse = sqrt(sv) / reps;
+            printf("| %s (scale %.3g) | %s%s | %.6f | %d | %.6f | %.2g | %.2f | %.2f / %.2f | %.2f |\n", thin ? "thin" : "thick",
+                   thin ? 0.25 * scale : scale, vbl_transmittance_estimator_name(ests[e]), e == 3 ? " mid-bound" : "", exact,
+                   reps, pm, pse, (pm - exact) / pse, zmin, zmax, z2 / reps);
+            fflush(stdout);
+        }
+    }
+    free(rays);
+    return 0;
+}
+
 int main(int argc, char** argv)
 {
     const char* path = VBL_BENCH_DEFAULT_VDB;
     double scale = 0.0; /* 0: chosen so the mean transmittance is moderate */
-    int gap_only = 0;
+    int gap_only = 0, exact_reps = 0;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--density-scale") && i + 1 < argc) scale = atof(argv[++i]);
         else if (!strcmp(argv[i], "--gap")) gap_only = 1;
+        else if (!strcmp(argv[i], "--exact") && i + 1 < argc) exact_reps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--coarse-depth") && i + 1 < argc) g_coarse_depth = atof(argv[++i]);
         else if (!strcmp(argv[i], "--coarse-ratio") && i + 1 < argc) g_coarse_ratio = atof(argv[++i]);
         else path = argv[i];
@@ -261,6 +321,11 @@ int main(int argc, char** argv)
            info.grid_name, (unsigned long long)info.active_voxels, info.voxel_size[0], info.value_min, info.value_max,
            omp_get_max_threads());
 
+    if (exact_reps > 0) {
+        int rc = run_exact(v, &info, scale, exact_reps);
+        vbl_volume_release(v);
+        return rc;
+    }
     if (gap_only) {
         int rc = run_gap(v, &info, scale);
         vbl_volume_release(v);

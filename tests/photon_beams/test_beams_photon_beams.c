@@ -402,7 +402,10 @@ static void test_converge_single(void** state)
      * blurs it over several pixels (bias), a thin one is noisy (variance) */
     tt_add_spot(s, vbl_v3(0.125, 0.125, 3.0), vbl_v3(0.1, 0.05, -1), 1000.0, 3.0, 5.0);
     double ref[CV_NP], ref_mean = 0.0, ref_rms = 0.0;
-    reference(s, "volume_direct", 1, 16, 512, ref);
+    /* 32 passes: the mean of 16 (seed 77) has a ~2.7 % s.e. (8 seeds of 4 passes: s.d. 5 %); after
+     * the tracker's carried optical depth its draw sat 2.4 s.e. low and the 10 % mean check failed
+     * (old/new pt means over those 8 seeds: 0.01594 / 0.01631, z 0.9) */
+    reference(s, "volume_direct", 1, 32, 512, ref);
     for (int i = 0; i < CV_NP; ++i) ref_mean += ref[i] / CV_NP;
     for (int i = 0; i < CV_NP; ++i) ref_rms += ref[i] * ref[i] / CV_NP;
     ref_rms = sqrt(ref_rms);

@@ -186,7 +186,9 @@ static void test_volume_from_surface_agrees_with_pt(void** state)
      * its light rises through the media, turning ~90 degrees into the camera */
     tt_add_point(scene, vbl_v3(1.2, 0.0, -0.75), 6.0);
     double mp, sp, mv, sv;
-    image_mean_stats(scene, &vbl_estimator_pt, 6, 1, 256, 0, 300, "volume_from_surface", &mp, &sp);
+    /* 12 pt replicates: the layer is heavy-tailed in pt (6 gave se 5.5 % with one stream and 11 % with
+     * the carried optical depth's, past the 10 % guard) */
+    image_mean_stats(scene, &vbl_estimator_pt, 12, 1, 256, 0, 300, "volume_from_surface", &mp, &sp);
     image_mean_stats(scene, &vbl_estimator_vpl, 6, 1, 2, 300, 400, "volume_from_surface", &mv, &sv);
     double z = fabs(mp - mv) / sqrt(sp * sp + sv * sv);
     printf("volume_from_surface: pt %.5g +- %.2g, vpl %.5g +- %.2g, z %.2f (g = %g and %g)\n", mp, sp, mv, sv, z,

@@ -160,7 +160,9 @@ static void agree(scene_case c, const vbl_estimator* est, int passes, int spp, i
 /* vrl/vpl: 2 passes x 400 light paths x 1 spp per replicate; pt: 4 passes x 32 spp */
 #define RES 12
 static void test_box_point_vrl(void** state) { (void)state; agree(box_point(RES), &vbl_estimator_vrl, 2, 1, 400, 4, 32, 0, "box/point vrl"); }
-static void test_power_vrl(void** state) { (void)state; agree(thin_box_point(8), &vbl_estimator_vrl, 2, 2, 1600, 4, 64, 1, "thin box/point vrl"); }
+/* 8 vrl passes: the x1.1 error is ~8 s.e. (at 2 passes it was 4-6 s.e., so the check passed or
+ * failed with the random stream: it failed after the tracker's carried optical depth). */
+static void test_power_vrl(void** state) { (void)state; agree(thin_box_point(8), &vbl_estimator_vrl, 8, 2, 1600, 4, 64, 1, "thin box/point vrl"); }
 static void test_box_point_vpl(void** state) { (void)state; agree(box_point(RES), &vbl_estimator_vpl, 2, 1, 400, 4, 32, 0, "box/point vpl"); }
 static void test_sphere_spot_vrl(void** state) { (void)state; agree(sphere_spot(RES), &vbl_estimator_vrl, 2, 1, 400, 4, 32, 0, "sphere/spot vrl"); }
 static void test_sphere_spot_vpl(void** state) { (void)state; agree(sphere_spot(RES), &vbl_estimator_vpl, 2, 1, 400, 4, 32, 0, "sphere/spot vpl"); }

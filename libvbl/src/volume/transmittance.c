@@ -124,13 +124,14 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
     const int residual = tr->kind == VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
+    double tau = -1.0; /* carried optical depth to the next tentative collision (vbl_exp_carry_step) */
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
         if (vbl_segment_homogeneous(&seg)) {
             const double sigma = seg.majorant;
             if (tr->sampling) { /* analytic exponential free flight */
-                double t = vbl_exp_step(seg.t0, sigma, tr->rng);
-                if (t >= seg.t1) continue;
+                double t = seg.t0;
+                if (!vbl_exp_carry_step(&tau, &t, seg.t1, sigma, tr->rng)) continue;
                 tr->t_stop = t;
                 tr->sigma_stop = sigma;
                 tr->weight = 0.0;
@@ -172,9 +173,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             continue; /* empty (or exactly known) segment: no lookups */
         }
         double t = seg.t0, t_control = seg.t0; /* the late control covers [t_control, t1] */
-        for (;;) {
-            t = vbl_exp_step(t, mu, tr->rng);
-            if (t >= seg.t1) break;
+        while (vbl_exp_carry_step(&tau, &t, seg.t1, mu, tr->rng)) {
             double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
             if (tr->visit) tr->visit(tr->visit_user, vbl_v3_madd(origin, direction, t), mu, per_component);
             if (vbl_tracker_event(tr, sigma_t, mu, sigma_c) == VBL_TRACK_STOP) {
@@ -330,7 +329,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
     vbl_majorant_segment seg;
     vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0};
     int records = 0;
-    double t_last = t0;
+    double t_last = t0, tau = -1.0; /* carried optical depth (vbl_exp_carry_step) */
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
         double mu = seg.majorant;
@@ -342,9 +341,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
              * tight majorant (a 0/1 step). A step function cannot hold exp(-sigma t) itself. */
             const double mu_free = VBL_HOMOGENEOUS_RATIO_K * mu;
             double t = seg.t0;
-            for (;;) {
-                t = vbl_exp_step(t, mu_free, rng);
-                if (t >= seg.t1) break;
+            while (vbl_exp_carry_step(&tau, &t, seg.t1, mu_free, rng)) {
                 if (records == max_records) {
                     double d;
                     if (vbl_free_flight_sample(ext, cursor, origin, direction, t_last, t1, use_global, rng, &d, NULL,
@@ -361,9 +358,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
             continue;
         }
         double t = seg.t0;
-        for (;;) {
-            t = vbl_exp_step(t, mu, rng);
-            if (t >= seg.t1) break;
+        while (vbl_exp_carry_step(&tau, &t, seg.t1, mu, rng)) {
             if (records == max_records) {
                 /* Out of room: the rest of the ray is covered by one delta-tracking distance d
                  * drawn afresh from the last recorded point (the Poisson process after it is

@@ -29,12 +29,31 @@ typedef struct vbl_tracking_settings {
     int unbiased_march;
 } vbl_tracking_settings;
 
-/* Advances t by an exponential step of rate mu (the next tentative collision of a Poisson process);
- * never stalls when the step is below an ulp. */
-static inline double vbl_exp_step(double t, double mu, vbl_rng* rng)
+/* The next tentative collision of a Poisson process of piecewise-constant rate (rate mu on the
+ * current segment, up to t1), with ONE exponential optical depth carried across segments: *tau
+ * (< 0: none drawn yet) is the depth left to the next collision, drawn ~ Exp(1) once and reduced
+ * by mu x length over each segment it crosses; a collision costs one log, a crossed segment none.
+ * By memorylessness the depth left after a crossing is again Exp(1) and independent of the past,
+ * so the points are the same process as a fresh exponential per segment (the optical-depth
+ * inversion of regular tracking over piecewise-constant cells, Novak et al. 2018, "Monte Carlo
+ * methods for volumetric light transport simulation", applied to the majorant segments).
+ * Returns 1 with *t moved to the collision if it lies in (*t, t1) (never stalls below an ulp),
+ * else 0 with the depth to carry on (a collision that rounds onto t1 is dropped and the next
+ * segment draws afresh: below an ulp). */
+static inline int vbl_exp_carry_step(double* tau, double* t, double t1, double mu, vbl_rng* rng)
 {
-    double next = t - log1p(-vbl_rng_uniform(rng)) / mu;
-    return next > t ? next : nextafter(t, INFINITY);
+    if (!(*tau >= 0.0)) *tau = -log1p(-vbl_rng_uniform(rng));
+    const double room = mu * (t1 - *t);
+    if (*tau >= room) {
+        *tau -= room;
+        return 0;
+    }
+    double next = *t + *tau / mu;
+    *tau = -1.0;
+    if (!(next > *t)) next = nextafter(*t, INFINITY);
+    if (next >= t1) return 0;
+    *t = next;
+    return 1;
 }
 
 /* One estimate of T(t0, t1) (unbiased for every estimator except ray marching). The cached

@@ -55,7 +55,7 @@ static int vbl_pt_ds_walk(const vbl_render_context* ctx, vbl_thread_state* ts, v
     const int use_global = ctx->tracking.use_global_majorant;
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    double T = 1.0, W = 0.0, t_last = t0;
+    double T = 1.0, W = 0.0, t_last = t0, tau = -1.0; /* tau: carried optical depth (vbl_exp_carry_step) */
     int n = 0;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
@@ -64,9 +64,7 @@ static int vbl_pt_ds_walk(const vbl_render_context* ctx, vbl_thread_state* ts, v
         double mu = seg.majorant == seg.minorant ? 2.0 * seg.majorant : seg.majorant;
         if (!(mu > 0.0)) continue;
         double t = seg.t0;
-        for (;;) {
-            t = vbl_exp_step(t, mu, rng);
-            if (t >= seg.t1) break;
+        while (vbl_exp_carry_step(&tau, &t, seg.t1, mu, rng)) {
             if (n == VBL_PT_DS_POINTS) {
                 double d, sigma_t, comps[VBL_MAX_MEDIA];
                 if (vbl_free_flight_sample(ext, &ts->cursor, origin, direction, t_last, t1, use_global, rng, &d,
