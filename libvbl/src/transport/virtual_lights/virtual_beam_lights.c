@@ -373,7 +373,7 @@ void vbl_beam_light_camera_sample(const vbl_render_context* ctx, const void* sto
         const int K = s->settings.select;
         vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
                                 vbl_vrl_tree_visible_length(&cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cache, u0,
-                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+                                VBL_VRL_SELECT_VISIBLE_CUT};
         vbl_beam_light_piece_visit v = {ctx, s, ts, o, d, u0, u1, &cache, rng, &acc};
         vbl_vrl_tree_select(&s->tree, &q, K, 1.0, rng, vbl_beam_light_visit_piece, &v);
     } else {

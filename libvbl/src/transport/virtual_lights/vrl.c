@@ -348,7 +348,7 @@ void vbl_vrl_camera_sample(const vbl_render_context* ctx, const void* store, vbl
         const int K = s->settings.select;
         vbl_vrl_tree_query q = {vbl_v3_madd(o, d, u0), d,
                                 vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), cache, u0,
-                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+                                VBL_VRL_SELECT_VISIBLE_CUT};
         vbl_vrl_tree_select(&s->tree, &q, K, S, rng, vbl_vrl_visit_piece, (void*)&g);
     } else {
         const vbl_vec3 cam_start = vbl_v3_madd(o, d, u0);
@@ -388,7 +388,7 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
     if (pdf) {
         vbl_vrl_tree_query q = {vbl_v3_madd(sample->origin, sample->direction, u0), sample->direction,
                                 vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), cache, u0,
-                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+                                VBL_VRL_SELECT_VISIBLE_CUT};
         for (size_t j = 0; j < s->photons.vrl_count; ++j) pdf[j] = 0.0;
         for (int i = 0; i < s->tree.piece_count; ++i) pdf[s->tree.pieces[i].vrl] += vbl_vrl_tree_pdf(&s->tree, &q, i);
     }
