@@ -34,6 +34,7 @@ int main(int argc, char** argv)
     ctx.tracking.estimator = VBL_TRANSMITTANCE_RATIO_TRACKING;
     ctx.threads = 1;
     vbl_vec3 cam = scene->camera.position;
+    double allM2 = 0, allF2 = 0;
     for (int p = 0; p < P; ++p) {
         ctx.pass = p;
         vbl_vrl_settings st; vbl_vrl_settings_from_options(&o, &st);
@@ -42,7 +43,7 @@ int main(int argc, char** argv)
         const vbl_photon_store* ph = vbl_vl_photons(store);
         size_t n = ph->vrl_count;
         double* E = calloc(n + 1, sizeof(double)); double* c = calloc(n + 1, sizeof(double)); double* pdf = calloc(n + 1, sizeof(double));
-        double sumF = 0; int nsamp = 0; static double m2s[100000]; int nm2 = 0;
+        double sumF = 0, sumM2 = 0, sumF2 = 0; int nsamp = 0; static double m2s[100000]; int nm2 = 0;
         vbl_thread_state ts; memset(&ts, 0, sizeof ts); vbl_extinction_cursor_init(&ts.cursor, ctx.extinction);
         for (int px = 0; px < W * H; ++px)
             for (int s = 0; s < spp; ++s) {
@@ -54,10 +55,10 @@ int main(int argc, char** argv)
                 if (!vbl_vrl_contributions(&ctx, store, &ts, &cs, &rng, c, &vis, sel ? pdf : NULL)) continue;
                 for (size_t j = 0; j < n; ++j) E[j] += c[j] / (3.0 * W * H * spp);
                 if (sel) { double F = 0, M2 = 0, covered = 0; for (size_t j = 0; j < n; ++j) { F += c[j]; if (c[j] > 0 && pdf[j] > 0) M2 += c[j] * c[j] / pdf[j]; if (c[j] > 0 && pdf[j] <= 0) covered += c[j]; }
-                  if (F > 0) { sumF += F; nsamp++; if (nm2 < 100000) m2s[nm2++] = M2 / (F * F); if (covered > 0) printf("ZEROPDF %g of %g\n", covered, F); } }
+                  if (F > 0) { sumF += F; sumM2 += M2; sumF2 += F * F; allM2 += M2; allF2 += F * F; nsamp++; if (nm2 < 100000) m2s[nm2++] = M2 / (F * F); if (covered > 0) printf("ZEROPDF %g of %g\n", covered, F); } }
             }
         if (sel && nm2) { int cmpd(const void* a, const void* b); qsort(m2s, nm2, sizeof(double), cmpd);
-            printf("SEL pass %d: %d lit samples, relative second moment of one draw: median %.3g, 90%% %.3g, max %.3g\n", p, nm2, m2s[nm2/2], m2s[nm2*9/10], m2s[nm2-1]); }
+            printf("SEL pass %d: %d lit samples, relative second moment of one draw: median %.3g, 90%% %.3g, max %.3g, pooled %.3g\n", p, nm2, m2s[nm2/2], m2s[nm2*9/10], m2s[nm2-1], sumM2 / sumF2); }
         int path = -1; if (sel) { free(E); free(c); free(pdf); vbl_vl_pass_end(&ctx, store); continue; }
         for (size_t j = 0; j < n; ++j) {
             const vbl_vrl* l = &ph->vrls[j];
@@ -76,5 +77,6 @@ int main(int argc, char** argv)
         free(E); free(c);
         vbl_vl_pass_end(&ctx, store);
     }
+    if (sel) printf("SEL all passes: pooled relative second moment %.4g\n", allM2 / allF2);
     return 0;
 }

@@ -94,10 +94,10 @@ static void test_selection_pdf(void** state)
         cache.value[i] = exp(-0.3 * i);
     }
     const vbl_vrl_tree_query qs[4] = {
-        {vbl_v3(-3, 0.1, 0.2), vbl_v3_normalize(vbl_v3(1, 0, 0)), 6.0, NULL, 0.0, 0.0, NULL, NULL},
-        {vbl_v3(0.3, -0.4, -3), vbl_v3_normalize(vbl_v3(0.1, 0.1, 1)), 1.5, NULL, 0.0, 0.0, NULL, NULL}, /* ends inside */
-        {vbl_v3(5, 5, 5), vbl_v3_normalize(vbl_v3(1, 1, 1)), 2.0, NULL, 0.0, 0.0, NULL, NULL},           /* far away */
-        {vbl_v3(-3, 0.1, 0.2), vbl_v3_normalize(vbl_v3(1, 0, 0)), 6.0, &cache, 1.0, 1e-3, NULL, NULL},  /* with T_c */
+        {vbl_v3(-3, 0.1, 0.2), vbl_v3_normalize(vbl_v3(1, 0, 0)), 6.0, NULL, 0.0, 0.0},
+        {vbl_v3(0.3, -0.4, -3), vbl_v3_normalize(vbl_v3(0.1, 0.1, 1)), 1.5, NULL, 0.0, 0.0}, /* ends inside */
+        {vbl_v3(5, 5, 5), vbl_v3_normalize(vbl_v3(1, 1, 1)), 2.0, NULL, 0.0, 0.0},           /* far away */
+        {vbl_v3(-3, 0.1, 0.2), vbl_v3_normalize(vbl_v3(1, 0, 0)), 6.0, &cache, 1.0, 1e-3},  /* with T_c */
     };
     static double expected[MAX_PIECES], observed[MAX_PIECES];
     const int np = tree.piece_count;
@@ -144,7 +144,7 @@ static void test_importance_follows_distance(void** state)
     vbl_vrl_tree tree;
     assert_int_equal(vbl_vrl_tree_build(&tree, v, 64, -1, 1e-3, 0.0, NULL, NULL), VBL_SUCCESS); /* whole VRLs */
     assert_int_equal(tree.light_count, 64);
-    vbl_vrl_tree_query q = {vbl_v3(-1, 0, 0), vbl_v3(1, 0, 0), 8.0, NULL, 0.0, 0.0, NULL, NULL}; /* crosses the even VRLs */
+    vbl_vrl_tree_query q = {vbl_v3(-1, 0, 0), vbl_v3(1, 0, 0), 8.0, NULL, 0.0, 0.0}; /* crosses the even VRLs */
     double near = vbl_vrl_tree_pdf(&tree, &q, 10), far = vbl_vrl_tree_pdf(&tree, &q, 11);
     printf("pdf crossing %g, 3 away %g\n", near, far);
     assert_true(near > 2.0 * far);

@@ -188,7 +188,7 @@ static void vbl_vl_gather_lights(const vbl_vl_gather* g)
         /* K draws from the light tree (vrl_tree.h), each weighted 1 / (K pdf): unbiased */
         vbl_vrl_tree_query q = {cam_start, d,
                                 vbl_vrl_tree_visible_length(&cam->cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), &cam->cache,
-                                u0, VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &g->ts->cursor};
+                                u0, VBL_VRL_SELECT_VISIBLE_CUT};
         vbl_vrl_tree_select(&s->tree, &q, s->select, k->weight_per_sample ? s->samples : 1.0, g->rng,
                             vbl_vl_visit_piece, (void*)g);
         return;

@@ -184,7 +184,7 @@ int vbl_vrl_contributions(const vbl_render_context* ctx, const void* store, vbl_
     if (pdf) {
         vbl_vrl_tree_query q = {vbl_v3_madd(sample->origin, sample->direction, u0), sample->direction,
                                 vbl_vrl_tree_visible_length(cache, u0, u1, VBL_VRL_SELECT_VISIBLE_CUT), cache, u0,
-                                VBL_VRL_SELECT_VISIBLE_CUT, ctx->extinction, &ts->cursor};
+                                VBL_VRL_SELECT_VISIBLE_CUT};
         for (size_t j = 0; j < s->photons.vrl_count; ++j) pdf[j] = 0.0;
         for (int i = 0; i < s->tree.piece_count; ++i) pdf[s->tree.pieces[i].vrl] += vbl_vrl_tree_pdf(&s->tree, &q, i);
     }

@@ -24,13 +24,15 @@
  * ~ pi l / h when only the camera segment is longer, and ~ (2 pi / sin theta) log(min(l, L) / h)
  * when both are longer (crossing). T_c is the camera ray's cached transmittance
  * (optional, floored at min_transmittance), taken at the front of the node's projection onto the
- * segment: it is non-increasing, so that bounds it over the node. With the media given, I is also
- * multiplied by exp(-tau) (floored at min_transmittance), tau the optical depth of the straight
- * connection from the camera point u* to the node (its sphere's centre, stopping at the sphere;
- * at a leaf the VRL's closest point) by the midpoint rule at VBL_VRL_TREE_MARCH points. This is a
- * guess, not a bound: the minorant grid's lower bound of the optical depth (tried first) is ~0
- * across a cloud's supervoxels, which contain empty voxels, so it separated nothing; a guess only
- * moves probability, never to zero (the floor), and the estimate stays unbiased. floor > 0 and the transmittance floor keep every light's
+ * segment: it is non-increasing, so that bounds it over the node. The connection's transmittance
+ * is left out: a midpoint-rule guess of it at 4 sigma_t points (an earlier version) moved the
+ * probability of the VRLs that carry a dense cloud's pixels towards 0 (the fringe seen through a
+ * guess across the core) and made the selection's tail worse, at twice the cost per camera sample.
+ * The traversal looks VBL_VRL_TREE_LOOKAHEAD levels ahead where the camera segment passes close
+ * to a node (within its radius of the sphere): a child's importance is then the sum of its
+ * descendants' (an estimate, not a bound, of the sum over its pieces), which follows the
+ * integrand much better there than one distance bound for a node the segment crosses.
+ * floor > 0 and the transmittance floor keep every light's
  * probability positive (unbiased for any floors); floor is a small fraction of the media's
  * bounding radius. The caller passes the camera segment restricted to where its cached
  * transmittance is not negligible (vbl_vrl_tree_visible_length), which only moves probability,
@@ -88,13 +90,9 @@ typedef struct vbl_vrl_tree_query {
      * cache_offset + s for the segment point origin + s direction, floored at min_transmittance > 0 */
     const struct vbl_transmittance_cache* cache;
     double cache_offset, min_transmittance;
-    /* optional (NULL: 1): the media and a cursor, for a guess of the transmittance along the
-     * connection from the camera segment to the node */
-    const struct vbl_extinction* extinction;
-    struct vbl_extinction_cursor* cursor;
 } vbl_vrl_tree_query;
 
-#define VBL_VRL_TREE_MARCH 4 /* sigma_t points of the connection's transmittance guess */
+#define VBL_VRL_TREE_LOOKAHEAD 2 /* levels of look-ahead near the camera segment (measured: 2) */
 
 /* Builds the tree over the pieces (at most piece_length long; <= 0: whole VRLs) of vrls[0 ..
  * count-1] that have power > 0, length > 0 and bounce + 2 <= max_bounces (max_bounces < 0:
