@@ -262,8 +262,8 @@ typedef enum vbl_render_option_effect {
       "vrl: floor of the pruning survival probability")                                                      \
     X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,            \
       "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)") \
-    X(vrl., vrl_light_guide, light_guide, int, BOOL, "vrl.light_guide", "--vrl-light-guide", 0, 0, 1, 0, NULL,   \
-      HASH, "vrl, vbl: light paths split / rouletted by a camera-importance grid (unbiased)")
+    X(vrl., vrl_light_guide, light_guide, int, INT, "vrl.light_guide", "--vrl-light-guide", 0, 0, 2, 0, NULL,    \
+      HASH, "vrl, vbl: light paths split / rouletted by camera importance: 0 off, 1 bounded, 2 window (unbiased)")
 
 /* vbl (virtual beam lights): options.beam_lights */
 #define VBL_RENDER_OPTIONS_BEAM_LIGHTS(X, F)                                                                 \

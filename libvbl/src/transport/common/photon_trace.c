@@ -82,6 +82,7 @@ typedef struct vbl_trace_shared {
     int caustics; /* the split of surface_caustics.h is on for this trace */
     vbl_photon_source source;
     const vbl_light_guide* guide; /* vrl.light_guide: steer the walks (NULL: plain roulette) */
+    int guide_mode;               /* its value: 1 bounded, 2 window (photon_trace.h) */
     uint64_t split_seed;          /* seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT */
     struct vbl_guide_pilot* pilot; /* vbl_light_guide_build's calibration (NULL otherwise) */
 } vbl_trace_shared;
@@ -279,9 +280,12 @@ static void vbl_walk(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, 
              * VBL_LIGHT_GUIDE_COPIES per root path); unbiased for any choice made before the copies. */
             const double r = vbl_v3_max_component(phi) / phi0 *
                              (vbl_camera_importance_at(&sh->guide->grid, x) + sh->guide->floor) / sh->guide->ref;
-            if (!(r >= 1.0)) {
-                if (!(r > 0.0) || vbl_rng_uniform(rng) >= r) return;
-                phi = vbl_v3_scale(phi, 1.0 / r);
+            /* mode 1 (bounded): q = max(r, Phi / Phi_0), so no weight ever exceeds Phi_0 (the
+             * unguided bound); mode 2 (window): q = r (weights up to Phi_0 ref / floor) */
+            const double q = sh->guide_mode == 2 ? r : fmax(r, vbl_v3_max_component(phi) / phi0);
+            if (!(r >= 1.0) && q < 1.0) {
+                if (!(q > 0.0) || vbl_rng_uniform(rng) >= q) return;
+                phi = vbl_v3_scale(phi, 1.0 / q);
             } else if (r >= 2.0) {
                 const uint32_t left = VBL_LIGHT_GUIDE_COPIES - split->copies;
                 copies = r < VBL_LIGHT_GUIDE_SPLIT ? (int)r : VBL_LIGHT_GUIDE_SPLIT;
@@ -443,6 +447,7 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     if (!(power > 0.0)) return VBL_SUCCESS;
 
     sh.guide = ctx->light_guide;
+    sh.guide_mode = ctx->options.vrl.light_guide;
     sh.split_seed = ctx->options.seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT;
 
     const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;

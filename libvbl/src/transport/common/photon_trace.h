@@ -168,7 +168,10 @@ int vbl_camera_segment_cache_to(const vbl_render_context* ctx, vbl_thread_state*
  * camera-visible media by importance-driven Russian roulette and splitting (Vorba and Krivanek
  * 2016, sec. 4). At a medium vertex x (from vertex 1 on, in place of the roulette above) with
  * arriving power Phi, r = max(Phi) / Phi_0 (I(x) + floor) / ref:
- *   r < 1:  the walk survives with probability r, Phi / r;
+ *   r < 1:  the walk survives with probability q, Phi / q, where
+ *           vrl.light_guide = 1 (bounded): q = max(r, max(Phi) / Phi_0) (no walk ever carries more
+ *           than Phi_0, the bound of the unguided roulette), no roulette when q >= 1;
+ *           vrl.light_guide = 2 (window, Vorba and Krivanek's weight window): q = r;
  *   r >= 2: n = min(floor(r), VBL_LIGHT_GUIDE_SPLIT) copies (and at most VBL_LIGHT_GUIDE_COPIES
  *           made per root path), each of power Phi / n, each sampling its own direction; copy c
  *           of path i draws from vbl_rng_make(seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT, pass, i << 20 | c)
