@@ -261,7 +261,9 @@ typedef enum vbl_render_option_effect {
       VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
       "vrl: floor of the pruning survival probability")                                                      \
     X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,            \
-      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)")
+      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)") \
+    X(vrl., vrl_light_guide, light_guide, int, INT, "vrl.light_guide", "--vrl-light-guide", 0, 0, 2, 0, NULL,    \
+      HASH, "vrl, vbl: light paths split / rouletted by camera importance: 0 off, 1 bounded, 2 window (unbiased)")
 
 /* vbl (virtual beam lights): options.beam_lights */
 #define VBL_RENDER_OPTIONS_BEAM_LIGHTS(X, F)                                                                 \

@@ -17,6 +17,7 @@
 #include "render/hybrid.h"
 #include "transport/path_tracing/pt.h"
 #include "transport/path_tracing/pt_guide.h"
+#include "transport/common/photon_trace.h"
 
 #define VBL_TILE 16
 
@@ -287,6 +288,17 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
         ctx.pt_guide = guide;
     }
+    /* vrl.light_guide: the camera-importance grid, once per render (photon_trace.h) */
+    vbl_light_guide* light_guide = NULL;
+    if ((options->method == VBL_RENDER_VRL || options->method == VBL_RENDER_VBL) && options->vrl.light_guide) {
+        if ((r = vbl_light_guide_build(&ctx, &light_guide))) {
+            free(accum);
+            vbl_pt_guide_free(guide);
+            vbl_light_guide_free(light_guide);
+            return r;
+        }
+        ctx.light_guide = light_guide;
+    }
     volatile int stop_latch = 0;
     ctx.stop_latch = &stop_latch;
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
@@ -312,6 +324,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             if (!backup && !(backup = malloc(pixel_count * sizeof *backup))) {
                 free(accum);
                 vbl_pt_guide_free(guide);
+                vbl_light_guide_free(light_guide);
                 return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the film's pass copy", scene->path);
             }
             memcpy(backup, accum, pixel_count * sizeof *backup);
@@ -331,6 +344,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             free(backup);
             free(accum);
             vbl_pt_guide_free(guide);
+            vbl_light_guide_free(light_guide);
             return r;
         }
         volatile int stop_pass = 0;
@@ -391,6 +405,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     }
     free(backup);
     vbl_pt_guide_free(guide);
+    vbl_light_guide_free(light_guide);
     if (passes_done == 0) { /* stopped inside the first pass: nothing to return */
         free(accum);
         const char* why = cancelled ? "render cancelled" : "time limit reached";

@@ -81,7 +81,18 @@ typedef struct vbl_trace_shared {
     int store_surface_vsls;
     int caustics; /* the split of surface_caustics.h is on for this trace */
     vbl_photon_source source;
+    const vbl_light_guide* guide; /* vrl.light_guide: steer the walks (NULL: plain roulette) */
+    int guide_mode;               /* its value: 1 bounded, 2 window (photon_trace.h) */
+    uint64_t split_seed;          /* seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT */
+    struct vbl_guide_pilot* pilot; /* vbl_light_guide_build's calibration (NULL otherwise) */
 } vbl_trace_shared;
+
+/* vbl_light_guide_build's calibration: the importance summed over the vertices of unguided walks. */
+typedef struct vbl_guide_pilot {
+    const vbl_light_guide* guide;
+    double sum;
+    size_t count;
+} vbl_guide_pilot;
 
 
 /* The photon (power *phi travelling along *d) reached surface `hit` at the end of segment k:
@@ -141,8 +152,35 @@ static int vbl_trace_surface_vertex(const vbl_trace_shared* sh, const vbl_surfac
     return 1;
 }
 
+/* vrl.light_guide (photon_trace.h): per root light path, the split copies made so far; copy c of
+ * path i draws from vbl_rng_make(seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT, pass, i << 20 | c). */
+typedef struct vbl_split_state {
+    uint64_t path;
+    uint32_t copies;
+} vbl_split_state;
+
+static void vbl_walk(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_transmittance_cache* tmp,
+                     vbl_rng* rng, vbl_photon_block* blk, vbl_vec3 x, vbl_vec3 d, vbl_vec3 phi, double phi0,
+                     int k_start, vbl_split_state* split);
+
 static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_emission_cursor* emission,
-                          vbl_transmittance_cache* tmp, vbl_rng* rng, vbl_photon_block* blk)
+                          vbl_transmittance_cache* tmp, vbl_rng* rng, vbl_photon_block* blk, uint64_t path)
+{
+    const vbl_render_context* ctx = sh->ctx;
+    /* light (or emissive media) selection proportional to power */
+    vbl_emission_sample es;
+    vbl_vec3 phi;
+    if (!vbl_photon_emit_with_media(&sh->source, ctx->scene, ctx->extinction, cursor, emission,
+                                    (size_t)ctx->options.light_paths, rng, &es, &phi))
+        return;
+    vbl_split_state split = {path, 0};
+    vbl_walk(sh, cursor, tmp, rng, blk, es.origin, es.direction, phi, vbl_v3_max_component(phi), 0, &split);
+}
+
+/* The walk from segment k_start at x along d with power phi (photon_trace.h). */
+static void vbl_walk(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, vbl_transmittance_cache* tmp,
+                     vbl_rng* rng, vbl_photon_block* blk, vbl_vec3 x, vbl_vec3 d, vbl_vec3 phi, double phi0,
+                     int k_start, vbl_split_state* split)
 {
     const vbl_render_context* ctx = sh->ctx;
     const vbl_scene* scene = ctx->scene;
@@ -151,19 +189,10 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
     const int M = ctx->options.max_bounces;
     const int use_global = ctx->tracking.use_global_majorant;
 
-    /* light (or emissive media) selection proportional to power */
-    vbl_emission_sample es;
-    vbl_vec3 phi;
-    if (!vbl_photon_emit_with_media(&sh->source, scene, ext, cursor, emission, (size_t)ctx->options.light_paths, rng,
-                                    &es, &phi))
-        return;
-    const double phi0 = vbl_v3_max_component(phi);
-
-    vbl_vec3 x = es.origin, d = es.direction;
     int prev_specular = 0; /* the previous vertex was a highly specular surface (caustics) */
     double comps[VBL_MAX_MEDIA] = {0};
     vbl_medium_point mp; /* what scatters at a vertex / at a VRL's middle (media/medium.h) */
-    for (int k = 0;; ++k) {
+    for (int k = k_start;; ++k) {
         double t0 = 0.0, t1 = 0.0, t_surface = INFINITY;
         vbl_surface_hit hit; /* the segment ends at the first surface (see photon_trace.h) */
         const int on_surface = scene->surfaces && vbl_surfaces_intersect(scene->surfaces, x, d, 0.0, INFINITY, &hit);
@@ -238,15 +267,123 @@ static void vbl_trace_one(const vbl_trace_shared* sh, vbl_extinction_cursor* cur
             p->g = vbl_medium_mean_g(&mp);
             p->bounce = vertex;
         }
+        if (sh->pilot) { /* vbl_light_guide_build's calibration walk: the mean importance at vertices */
+            sh->pilot->sum += vbl_camera_importance_at(&sh->pilot->guide->grid, x);
+            sh->pilot->count += 1;
+        }
         if (M >= 0 && vertex > M - 2) return;
-        double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng);
-        vbl_vec3 wi;
-        double pdf = 0.0;
-        if (!vbl_medium_phase_sample(&mp, d, u0, u1, u2, &wi, &pdf)) return;
-        phi = vbl_v3_scale(vbl_v3_mul(phi, vbl_medium_phase_kernel(&mp, vbl_v3_dot(d, wi))), 1.0 / (pdf * sigma_t));
-        if (!vbl_photon_continues(&phi, phi0, vertex >= 2, rng)) return;
-        d = wi;
+        int copies = 1;
+        if (sh->guide) {
+            /* weight window (Vorba and Krivanek 2016, sec. 4, eq. 5-6 with the camera importance as
+             * the adjoint): r = Phi I(x) / (Phi_0 I_ref); roulette with q = r below 1, n = floor(r)
+             * copies of weight Phi / n from 2 on (at most VBL_LIGHT_GUIDE_SPLIT here and
+             * VBL_LIGHT_GUIDE_COPIES per root path); unbiased for any choice made before the copies. */
+            const double r = vbl_v3_max_component(phi) / phi0 *
+                             (vbl_camera_importance_at(&sh->guide->grid, x) + sh->guide->floor) / sh->guide->ref;
+            /* mode 1 (bounded): q = max(r, Phi / Phi_0), so no weight ever exceeds Phi_0 (the
+             * unguided bound); mode 2 (window): q = r (weights up to Phi_0 ref / floor) */
+            const double q = sh->guide_mode == 2 ? r : fmax(r, vbl_v3_max_component(phi) / phi0);
+            if (!(r >= 1.0) && q < 1.0) {
+                if (!(q > 0.0) || vbl_rng_uniform(rng) >= q) return;
+                phi = vbl_v3_scale(phi, 1.0 / q);
+            } else if (r >= 2.0) {
+                const uint32_t left = VBL_LIGHT_GUIDE_COPIES - split->copies;
+                copies = r < VBL_LIGHT_GUIDE_SPLIT ? (int)r : VBL_LIGHT_GUIDE_SPLIT;
+                if ((uint32_t)copies > left + 1) copies = (int)left + 1;
+                phi = vbl_v3_scale(phi, 1.0 / copies);
+            }
+        }
+        for (int c = 0; c < copies; ++c) {
+            vbl_rng copy_rng;
+            vbl_rng* cr = rng; /* copy 0 goes on with the path's own stream */
+            if (c + 1 < copies) {
+                split->copies += 1;
+                copy_rng = vbl_rng_make(sh->split_seed, ctx->pass, split->path << 20 | split->copies);
+                cr = &copy_rng;
+            }
+            double u0 = vbl_rng_uniform(cr), u1 = vbl_rng_uniform(cr), u2 = vbl_rng_uniform(cr);
+            vbl_vec3 wi;
+            double pdf = 0.0;
+            if (!vbl_medium_phase_sample(&mp, d, u0, u1, u2, &wi, &pdf)) {
+                if (c + 1 < copies) continue;
+                return;
+            }
+            vbl_vec3 out = vbl_v3_scale(vbl_v3_mul(phi, vbl_medium_phase_kernel(&mp, vbl_v3_dot(d, wi))),
+                                        1.0 / (pdf * sigma_t));
+            if (c + 1 < copies) { /* the extra copies first (depth first: their streams in a fixed order) */
+                if (vbl_v3_max_component(out) > 0.0)
+                    vbl_walk(sh, cursor, tmp, cr, blk, x, wi, out, phi0, vertex, split);
+                if (blk->failed) return;
+                continue;
+            }
+            phi = out;
+            if (sh->guide ? !(vbl_v3_max_component(phi) > 0.0) : !vbl_photon_continues(&phi, phi0, vertex >= 2, rng))
+                return;
+            d = wi;
+        }
     }
+}
+
+void vbl_light_guide_free(vbl_light_guide* guide)
+{
+    if (!guide) return;
+    vbl_camera_importance_free(&guide->grid);
+    free(guide);
+}
+
+vbl_result vbl_light_guide_build(const vbl_render_context* ctx, vbl_light_guide** out)
+{
+    *out = NULL;
+    const vbl_scene* scene = ctx->scene;
+    vbl_light_guide* g = calloc(1, sizeof *g);
+    if (!g) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the light guide", scene->path);
+    vbl_trace_shared sh;
+    memset(&sh, 0, sizeof sh);
+    {
+        vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
+        double radius = 0.0;
+        if ((scene->light_count == 0 && !scene->has_emission) || !vbl_camera_importance_build(ctx, &g->grid) ||
+            !(g->grid.total > 0.0) || !vbl_photon_emission_sphere(scene, 1, &center, &radius)) {
+            vbl_light_guide_free(g);
+            return VBL_SUCCESS;
+        }
+        double power = vbl_photon_source_init(&sh.source, scene, center, radius);
+        if (scene->has_emission) power = vbl_photon_source_add_media(&sh.source, scene);
+        if (!(power > 0.0)) {
+            vbl_light_guide_free(g);
+            return VBL_SUCCESS;
+        }
+    }
+    /* the calibration: unguided walks that store nothing, from a stream of their own */
+    vbl_render_context c = *ctx;
+    c.options.light_paths = VBL_LIGHT_GUIDE_PILOT_PATHS;
+    c.light_guide = NULL;
+    vbl_photon_settings none;
+    memset(&none, 0, sizeof none);
+    vbl_guide_pilot pilot = {g, 0.0, 0};
+    vbl_photon_block blk;
+    memset(&blk, 0, sizeof blk);
+    sh.ctx = &c;
+    sh.settings = &none;
+    sh.pilot = &pilot;
+    vbl_extinction_cursor cursor;
+    vbl_extinction_cursor_init(&cursor, ctx->extinction);
+    vbl_emission_cursor emission;
+    if (scene->has_emission) vbl_emission_cursor_init(&emission, scene);
+    const uint64_t seed = ctx->options.seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT ^ VBL_RNG_DOMAIN_LIGHT;
+    for (int i = 0; i < VBL_LIGHT_GUIDE_PILOT_PATHS; ++i) {
+        vbl_rng rng = vbl_rng_make(seed, 0, (uint64_t)i);
+        vbl_trace_one(&sh, &cursor, &emission, NULL, &rng, &blk, (uint64_t)i);
+    }
+    if (!(pilot.count > 0 && pilot.sum > 0.0)) {
+        vbl_light_guide_free(g);
+        return VBL_SUCCESS;
+    }
+    const double mean = pilot.sum / (double)pilot.count;
+    g->floor = VBL_CAMERA_IMPORTANCE_FLOOR * mean;
+    g->ref = mean + g->floor;
+    *out = g;
+    return VBL_SUCCESS;
 }
 
 void vbl_photon_store_free(vbl_photon_store* store)
@@ -309,6 +446,10 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     if (scene->has_emission) power = vbl_photon_source_add_media(&sh.source, scene); /* photons from the fire too */
     if (!(power > 0.0)) return VBL_SUCCESS;
 
+    sh.guide = ctx->light_guide;
+    sh.guide_mode = ctx->options.vrl.light_guide;
+    sh.split_seed = ctx->options.seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT;
+
     const int blocks = (n + VBL_PHOTON_BLOCK - 1) / VBL_PHOTON_BLOCK;
     vbl_photon_block* blk = calloc((size_t)blocks, sizeof *blk);
     if (!blk) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for %d light paths", scene->path, n);
@@ -334,7 +475,7 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
             int end = (b + 1) * VBL_PHOTON_BLOCK < n ? (b + 1) * VBL_PHOTON_BLOCK : n;
             for (int i = b * VBL_PHOTON_BLOCK; i < end && !blk[b].failed; ++i) {
                 vbl_rng rng = vbl_rng_make(seed, ctx->pass, (uint64_t)i);
-                vbl_trace_one(&sh, &cursor, &emission, tmp, &rng, &blk[b]);
+                vbl_trace_one(&sh, &cursor, &emission, tmp, &rng, &blk[b], (uint64_t)i);
             }
         }
         free(tmp);

@@ -64,6 +64,7 @@
 
 #include <stddef.h>
 
+#include "transport/common/camera_importance.h"
 #include "transport/common/estimator.h"
 #include "transport/surface/surface_caustics.h"
 #include "transport/surface/surface_vsl.h"
@@ -162,5 +163,38 @@ int vbl_camera_segment_cache(const vbl_render_context* ctx, vbl_thread_state* ts
 int vbl_camera_segment_cache_to(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                 vbl_vec3 direction, double t_max, vbl_rng* rng, struct vbl_transmittance_cache* cache,
                                 double* u0, double* u1);
+
+/* vrl.light_guide (methods vrl and vbl; camera_importance.h): light paths steered toward
+ * camera-visible media by importance-driven Russian roulette and splitting (Vorba and Krivanek
+ * 2016, sec. 4). At a medium vertex x (from vertex 1 on, in place of the roulette above) with
+ * arriving power Phi, r = max(Phi) / Phi_0 (I(x) + floor) / ref:
+ *   r < 1:  the walk survives with probability q, Phi / q, where
+ *           vrl.light_guide = 1 (bounded): q = max(r, max(Phi) / Phi_0) (no walk ever carries more
+ *           than Phi_0, the bound of the unguided roulette), no roulette when q >= 1;
+ *           vrl.light_guide = 2 (window, Vorba and Krivanek's weight window): q = r;
+ *   r >= 2: n = min(floor(r), VBL_LIGHT_GUIDE_SPLIT) copies (and at most VBL_LIGHT_GUIDE_COPIES
+ *           made per root path), each of power Phi / n, each sampling its own direction; copy c
+ *           of path i draws from vbl_rng_make(seed ^ VBL_RNG_DOMAIN_LIGHT_SPLIT, pass, i << 20 | c)
+ *           (copies counted depth first), the last copy goes on with the path's own stream.
+ * n and q are fixed before the copies' futures, so the estimate stays unbiased. Surface vertices
+ * keep the roulette above. ref = the mean of I + floor over the vertices of
+ * VBL_LIGHT_GUIDE_PILOT_PATHS unguided walks (fixed seed, once per render), so that the expected
+ * number of vertices, and records, per pass is about unchanged; floor =
+ * VBL_CAMERA_IMPORTANCE_FLOOR times the mean I. Everything is a function of the scene, the seed
+ * and the pass: images are the same at any thread count and split/merge stays exact. */
+#define VBL_LIGHT_GUIDE_SPLIT 8
+#define VBL_LIGHT_GUIDE_COPIES 64
+#define VBL_LIGHT_GUIDE_PILOT_PATHS 1024
+#define VBL_RNG_DOMAIN_LIGHT_SPLIT 0x53504C4954434F50ull /* split copies of light paths */
+
+typedef struct vbl_light_guide {
+    vbl_camera_importance grid;
+    double floor, ref; /* see above (ref > 0) */
+} vbl_light_guide;
+
+/* Builds the guide once per render (render.c, with vrl.light_guide and method vrl or vbl);
+ * *out = NULL when the camera sees no medium the light reaches (the walks are then unguided). */
+vbl_result vbl_light_guide_build(const vbl_render_context* ctx, vbl_light_guide** out);
+void vbl_light_guide_free(vbl_light_guide* guide);
 
 #endif
