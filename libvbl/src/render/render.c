@@ -349,7 +349,12 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
         volatile int stop_pass = 0;
         tiles_done = 0;
-#pragma omp parallel num_threads(ctx.threads)
+        /* No more workers than tiles: a film of one tile (16x16 or less) renders on one thread,
+         * where the idle worker would only spin at the loop's barrier (libgomp's active wait),
+         * ~17x the CPU of threads = 1 for small many-pass renders. Pixels do not depend on the
+         * thread count, so the image is unchanged. */
+        const int tile_threads = ctx.threads < tile_count ? ctx.threads : tile_count;
+#pragma omp parallel num_threads(tile_threads)
         {
             vbl_thread_state ts;
             memset(&ts, 0, sizeof ts);
