@@ -183,9 +183,12 @@ static void test_unbiased(void** state)
     vbl_scene_release(scene);
 }
 
-int main(void)
+/* Quick: the guide and determinism; argument "agreement" (label slow): the means against pt. */
+int main(int argc, char** argv)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_guide_built), cmocka_unit_test(test_deterministic),
-                                       cmocka_unit_test(test_unbiased)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_guide_built), cmocka_unit_test(test_deterministic)};
+    const struct CMUnitTest agreement[] = {cmocka_unit_test(test_unbiased)};
+    if (argc > 1 && !strcmp(argv[1], "agreement"))
+        return cmocka_run_group_tests(agreement, rt_temp_dir_setup, rt_temp_dir_teardown);
     return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }
