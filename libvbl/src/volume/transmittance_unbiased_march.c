@@ -9,105 +9,149 @@
  *
  *   T_hat = exp(-tau_c) [1 + sum_{k=1}^{N} prod_{j<=k} D_j / (k! P(N >= k))],  D_j = tau_c - X_j,
  *
- * is unbiased whenever P(N >= k) > 0 for every k whose term can be non-zero. Here:
- *  - the control tau_c is itself a marched estimate X_0 (a pilot), independent of the factors, so
- *    T_hat is unbiased conditionally on it (the paper's use of a first estimate as the expansion
- *    point). tau_c may be any function of X_0: it is clamped to the deterministic bounds
- *    [sum minorant len, sum majorant len] of the true tau, which keeps exp(-tau_c) <= 1;
- *  - to first order T_hat = T (1 - e_1 + O(e^2)) with e_j = X_j - tau: the variance is the first
- *    factor's, the pilot's error enters only at second order;
- *  - N >= 1 always; after factor k the series continues with probability
- *    q_k = min(1, |D_k| / (theta (k + 1))) (a stopping time of the factors drawn so far: the
- *    estimator is Russian roulette on the series, P(N >= k + 1 | X_1..X_k) = prod q_i, still
- *    unbiased). The next term is the current one times D_{k+1} / (k + 1), so q follows its expected
- *    size: rare second factors where the march is accurate, more where it is not; q_k = 0 only when
- *    D_k = 0, where every later term is 0 too;
- *  - each X_j walks the merged majorant segments once: over a segment of length len with bounds
- *    [min, max], control c = (max + min) / 2 and radius r = (max - min) / 2, X = c len + R with
- *    R an estimate of int (sigma_t - c): m = rate r len expected points; m >= 1: n = ceil(m)
- *    (at most max_points) strata of length len / n with one jittered point each (stratified
- *    sampling), R = len / n sum (sigma_t(t_i) - c); m < 1: with probability m one uniform point,
- *    R = len / m (sigma_t(t) - c), else R = 0. Both are unbiased; homogeneous (min == max) and
- *    empty segments are exact and cost no lookup. The lookups follow the residual r len as ratio
- *    tracking's follow mu len, but the points are stratified, not Poisson.
+ * is unbiased whenever P(N >= k) > 0 for every k whose term can be non-zero.
  *
- * In dense media the first walk plays Russian roulette on the whole estimate once the majorants'
- * bound on T falls below 1e-4 (as ratio tracking does on its weight below 0.1), so lookups stop where
- * T is small; a survivor carries 1 / p, which keeps (bound on T) / p at 1e-4, so tc / p <= 1.
+ * Blocks (bounded variance by construction). The ray's majorant segments are cut into blocks of
+ * bound width sum (max - min) / 2 len <= B (params.block_depth, default 1; a segment wider than B
+ * is split), and T = prod_b T_b is estimated by the product of independent per-block series
+ * (unbiased: independent factors; the cuts depend on the majorants only). Within a block every
+ * factor's |D_j| is at most 2 B plus 1 / rate per sparse piece (below), so the series' terms are
+ * bounded by ~exp(2 B) whatever the optical depth; one series over a deep, wide-bound ray (the
+ * sigma_t 30 box of test_transport_dense: 30 units of bound width in one segment) had products
+ * of D_j ~ e^30 and a heavy tail. Homogeneous segments (min == max) are exact factors. Per block:
+ *  - the control tau_c is a marched estimate X_0 (a pilot) independent of the factors, clamped
+ *    to the block's deterministic bounds, so exp(-tau_c) <= 1 and T_b's estimate is unbiased
+ *    conditionally on it; to first order T_hat = T (1 - e_1), e_1 = X_1 - tau;
+ *  - N >= 1; after factor k the series continues with probability q_k = min(1, |D_k| /
+ *    (theta (k + 1))), and at most 1/2 from order VBL_UM_ORDER_HALF on (Russian roulette on the
+ *    series, a stopping time of the factors drawn: unbiased, N finite almost surely with no
+ *    truncation; the former stop at order 1000 was one);
+ *  - each X_j walks the block's pieces: a piece of length len, control c = (max + min) / 2 and
+ *    radius r = (max - min) / 2 gives X = c len + R, R an estimate of int (sigma_t - c) with
+ *    m = rate r len points: m >= 1: ceil(m) (at most max_points) jittered strata; m < 1: one
+ *    uniform point with probability m, weight 1 / m. Both unbiased.
+ *
+ * The running product W of finished factors plays Russian roulette once |W| < 1e-4 (survives
+ * with |W| / 1e-4, then |W| = 1e-4; ratio tracking's rule on its weight), so lookups stop where
+ * T is small even when the minorants are 0.
  *
  * Finite by construction: every sigma_t, D_j and weight is finite (a continued term is the last
- * one times +-theta (k + 1) / k, not a division by a small q), exp(-tau_c) <= exp(-sum min len)
- * and it returns 0 when that underflows (T below double precision). The estimate can be
- * negative (or above 1) when the factors' signs disagree; pixels stay finite and the mean is
- * unbiased (docs/readme/sampling.md "Shadow-ray transmittance"). */
+ * one times +-theta (k + 1) / k or x2, not a division by a small q), exp(-tau_c) <= 1 and a
+ * block returns 0 when it underflows. The estimate can be negative (or above 1) when the
+ * factors' signs disagree; pixels stay finite and the mean is unbiased (docs/readme/sampling.md
+ * "Shadow-ray transmittance"). */
 #include "volume/transmittance_unbiased_march.h"
 
 #include <float.h>
 #include <math.h>
 
-/* Walks [t0, t1] once; returns sum c len (exact part, identical for every walk) and fills the
- * residual estimates R[i] of `n` independent marches at rates[i]; *bound receives sum r len.
- * With `roulette` not NULL (the first walk), once the upper bound exp(-sum min len) of T so far
- * times *roulette falls below VBL_RR_MARCH the whole estimate survives with probability
- * p = bound x *roulette / VBL_RR_MARCH and *roulette /= p (unbiased: p depends on the majorants
- * only); it returns -1 when the estimate was killed (T_hat = 0) or T is below double precision. */
+/* One piece of a block: [t0, t0 + len] inside one majorant segment, control c, radius r > 0. */
+typedef struct vbl_um_piece {
+    double t0, len, c, r;
+    int cap; /* most points of one march in this piece */
+} vbl_um_piece;
+
+/* Most pieces in one block (a block also closes when it is full; any partition fixed by the
+ * majorants alone keeps the product unbiased). */
+#define VBL_UM_BLOCK_PIECES 32
+/* Order after which the continuation probability is at most 1/2: N is finite almost surely with a
+ * geometric tail, and no term is cut (the former order-1000 stop was a truncation). */
+#define VBL_UM_ORDER_HALF 64
+/* Russian roulette on the running estimate W below this (ratio tracking's rule on its weight). */
 #define VBL_RR_MARCH 1e-4
-static double vbl_um_walk(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
-                          vbl_vec3 direction, double t0, double t1, int use_global, const double* rates, int n,
-                          int max_points, vbl_rng* rng, double* R, double* bound, double* roulette)
+
+/* A marched estimate R of int (sigma_t - c) over the block's pieces at `rate` points per unit of
+ * residual depth r len: m = rate r len; m >= 1: ceil(m) (at most max_points) jittered strata;
+ * m < 1: one uniform point with probability m, weight 1 / m. Both unbiased; |R| <= sum r len
+ * for the strata, <= 1 / rate per sparse piece. */
+static double vbl_um_march(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, const vbl_um_piece* pc, int n, double rate, vbl_rng* rng)
 {
-    vbl_extinction_iter iter;
-    vbl_majorant_segment seg;
-    double exact = 0.0, radius_depth = 0.0;
-    for (int i = 0; i < n; ++i) R[i] = 0.0;
-    vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
-    while (vbl_extinction_iter_next(&iter, &seg)) {
-        const double len = seg.t1 - seg.t0;
-        if (!(seg.majorant > 0.0) || !(len > 0.0)) continue;
-        const double c = 0.5 * (seg.majorant + seg.minorant);
-        const double r = 0.5 * (seg.majorant - seg.minorant);
-        exact += c * len;
-        radius_depth += r * len;
-        if (roulette) {
-            const double upper = exp(-(exact - radius_depth)) * *roulette;
-            if (!(upper > 0.0)) return -1.0; /* T below double precision */
-            if (upper < VBL_RR_MARCH) {
-                const double keep = upper / VBL_RR_MARCH;
-                if (!(vbl_rng_uniform(rng) < keep)) return -1.0;
-                *roulette /= keep;
-            }
+    double R = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double len = pc[i].len, c = pc[i].c, t0 = pc[i].t0;
+        const double m = rate * pc[i].r * len;
+        if (m < 1.0) {
+            if (!(vbl_rng_uniform(rng) < m)) continue;
+            double t = t0 + vbl_rng_uniform(rng) * len;
+            if (!(t < t0 + len)) t = t0; /* rounding */
+            R += len / m * (vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL) - c);
+            continue;
         }
-        if (!(r > 0.0)) continue; /* homogeneous: exact */
-        for (int i = 0; i < n; ++i) {
-            const double m = rates[i] * r * len;
-            if (m < 1.0) {
-                if (!(vbl_rng_uniform(rng) < m)) continue;
-                double t = seg.t0 + vbl_rng_uniform(rng) * len;
-                if (!(t < seg.t1)) t = seg.t0; /* rounding */
-                R[i] += len / m * (vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL) - c);
-                continue;
-            }
-            int k = m < (double)max_points ? (int)ceil(m) : max_points;
-            const double h = len / (double)k;
-            double s = 0.0;
-            for (int j = 0; j < k; ++j) {
-                double t = seg.t0 + ((double)j + vbl_rng_uniform(rng)) * h;
-                if (!(t < seg.t1)) t = seg.t0 + (double)j * h;
-                s += vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL) - c;
-            }
-            R[i] += h * s;
+        const int k = m < (double)pc[i].cap ? (int)ceil(m) : pc[i].cap;
+        const double h = len / (double)k;
+        double s = 0.0;
+        for (int j = 0; j < k; ++j) {
+            double t = t0 + ((double)j + vbl_rng_uniform(rng)) * h;
+            if (!(t < t0 + len)) t = t0 + (double)j * h;
+            s += vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL) - c;
         }
+        R += h * s;
     }
-    *bound = radius_depth;
-    return exact;
+    return R;
+}
+
+/* The block's estimate of exp(-tau_b): tau_b = exact + int (sigma_t - c) with |int| <= bound
+ * (Kettunen et al. 2021, sec. 3 eq. for the power series around tau_c; sec. 4 the random order). */
+static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, const vbl_um_piece* pc, int n, double exact, double bound,
+                           const vbl_unbiased_march_params* p, vbl_rng* rng)
+{
+    const double rate = p->rate > 0.0 ? p->rate : VBL_UNBIASED_MARCH_RATE;
+    const double pilot_rate = p->pilot_rate > 0.0 ? p->pilot_rate : VBL_UNBIASED_MARCH_RATE;
+    const double theta = p->theta > 0.0 ? p->theta : 1.0;
+    /* the control tau_c = exact + rc, rc the pilot clamped to the true residual's bounds */
+    double rc = vbl_um_march(ext, cursor, origin, direction, pc, n, pilot_rate, rng);
+    if (rc < -bound) rc = -bound;
+    if (rc > bound) rc = bound;
+    const double tc = exp(-(exact - bound)) * exp(-(rc + bound)); /* both factors <= 1 */
+    if (!(tc > 0.0)) return 0.0;                                  /* below double precision */
+    double d = rc - vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng); /* D_1 */
+    double term = d; /* prod D_j / (k! P(N >= k)) at k = 1 */
+    double sum = 1.0 + term;
+    for (int k = 1; d != 0.0; ++k) {
+        double q = fabs(d) / (theta * (double)(k + 1));
+        const int half = k >= VBL_UM_ORDER_HALF && q > 0.5;
+        if (half) q = 0.5;
+        double w; /* term / min(1, q) without dividing by a small q */
+        if (q < 1.0) {
+            if (!(vbl_rng_uniform(rng) < q)) break;
+            w = half ? 2.0 * term : term / fabs(d) * theta * (double)(k + 1);
+        } else {
+            w = term;
+        }
+        d = rc - vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng);
+        term = w * d / (double)(k + 1);
+        sum += term;
+    }
+    return tc * sum;
 }
 
 vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 {
     const double k = scale > 1.0 ? scale : 1.0;
     vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k, VBL_UNBIASED_MARCH_RATE * k,
-                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0};
+                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH};
     return p;
+}
+
+/* Multiplies the running estimate by a finished factor and plays roulette on it once |W| falls
+ * below VBL_RR_MARCH: survives with p = |W| / VBL_RR_MARCH and carries W / p (unbiased: the
+ * decision depends on factors already drawn only). Returns 0 when the estimate ends at 0. */
+static int vbl_um_times(double* W, double f, vbl_rng* rng)
+{
+    *W *= f;
+    if (*W == 0.0) return 0;
+    const double a = fabs(*W);
+    if (a < VBL_RR_MARCH) {
+        const double keep = a / VBL_RR_MARCH;
+        if (!(vbl_rng_uniform(rng) < keep)) {
+            *W = 0.0;
+            return 0;
+        }
+        *W = *W < 0.0 ? -VBL_RR_MARCH : VBL_RR_MARCH;
+    }
+    return 1;
 }
 
 double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
@@ -115,41 +159,67 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
                                         const vbl_unbiased_march_params* params, vbl_rng* rng)
 {
     if (!(t1 > t0)) return 1.0;
-    const vbl_unbiased_march_params p = *params;
-    const int max_points = p.max_points >= 1 ? p.max_points : 1;
-    const double theta = p.theta > 0.0 ? p.theta : 1.0;
-    /* walk 1: the pilot X_0 and the first factor X_1 together (one DDA walk) */
-    double rates[2] = {p.pilot_rate > 0.0 ? p.pilot_rate : VBL_UNBIASED_MARCH_RATE,
-                       p.rate > 0.0 ? p.rate : VBL_UNBIASED_MARCH_RATE};
-    double R[2], bound, roulette = 1.0;
-    const double exact = vbl_um_walk(ext, cursor, origin, direction, t0, t1, use_global_majorant, rates, 2, max_points,
-                                     rng, R, &bound, &roulette);
-    if (exact < 0.0) return 0.0;
-    /* tau_c = exact + rc, rc = R_0 clamped to the true tau's bounds [-bound, bound] around exact */
-    double rc = R[0];
-    if (rc < -bound) rc = -bound;
-    if (rc > bound) rc = bound;
-    const double tc = exp(-(exact - bound)) * exp(-(rc + bound)); /* both factors <= 1 */
-    if (!(tc > 0.0)) return 0.0; /* T below double precision */
-    double d = rc - R[1]; /* D_1 = tau_c - X_1 (the exact parts cancel) */
-    double term = d;      /* prod D_j / (k! P(N >= k)) at k = 1 */
-    double sum = 1.0 + term;
-    for (int k = 1; k < 1000; ++k) {
-        if (d == 0.0) break;
-        const double q = fabs(d) / (theta * (double)(k + 1));
-        double w; /* term / min(1, q) without dividing by a small q */
-        if (q < 1.0) {
-            if (!(vbl_rng_uniform(rng) < q)) break;
-            w = term / fabs(d) * theta * (double)(k + 1); /* |term / d| is the previous term's size / k */
-        } else {
-            w = term;
+    const double B = params->block_depth > 0.0 ? params->block_depth : VBL_UNBIASED_MARCH_BLOCK_DEPTH;
+    const int max_points = params->max_points >= 1 ? params->max_points : 1;
+    const double rate = fmax(params->rate, params->pilot_rate) > 0.0 ? fmax(params->rate, params->pilot_rate)
+                                                                       : VBL_UNBIASED_MARCH_RATE;
+    const double per_block = ceil(fmin(rate * B, (double)max_points)); /* points of a full block */
+    const int wide = (int)fmax(1.0, floor((double)max_points / per_block));
+    const int wide_cap = (int)fmax(1.0, floor((double)max_points / (double)wide));
+    vbl_um_piece pc[VBL_UM_BLOCK_PIECES];
+    int n = 0;
+    double exact = 0.0, bound = 0.0, W = 1.0;
+    vbl_extinction_iter iter;
+    vbl_majorant_segment seg;
+    vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global_majorant);
+    while (vbl_extinction_iter_next(&iter, &seg)) {
+        const double len = seg.t1 - seg.t0;
+        if (!(seg.majorant > 0.0) || !(len > 0.0)) continue;
+        const double c = 0.5 * (seg.majorant + seg.minorant);
+        const double r = 0.5 * (seg.majorant - seg.minorant);
+        if (!(r > 0.0)) { /* homogeneous: an exact factor, no lookup */
+            if (!vbl_um_times(&W, exp(-c * len), rng)) return 0.0;
+            continue;
         }
-        double Rk, b;
-        vbl_um_walk(ext, cursor, origin, direction, t0, t1, use_global_majorant, &rates[1], 1, max_points, rng, &Rk, &b,
-                    NULL);
-        d = rc - Rk;
-        term = w * d / (double)(k + 1);
-        sum += term;
+        /* a segment wider than `wide` x B: its own `wide` blocks of max_points / wide points each
+         * (the work per segment stays at most max_points per march, as without blocks) */
+        if (r * len > (double)wide * B) {
+            if (n > 0) {
+                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+                if (!vbl_um_times(&W, f, rng)) return 0.0;
+                n = 0;
+                exact = bound = 0.0;
+            }
+            const double l = len / (double)wide;
+            for (int i = 0; i < wide; ++i) {
+                const vbl_um_piece one = {seg.t0 + (double)i * l, l, c, r, wide_cap};
+                const double f = vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, rng);
+                if (!vbl_um_times(&W, f, rng)) return 0.0;
+            }
+            continue;
+        }
+        /* else pieces so that every block's bound width sum r len is at most B */
+        double t = seg.t0, left = len;
+        while (left > 0.0) {
+            const double room = B - bound;
+            const int fills = r * left >= room;
+            const double l = fills ? room / r : left;
+            pc[n++] = (vbl_um_piece){t, l, c, r, max_points};
+            exact += c * l;
+            bound += r * l;
+            t += l;
+            left = fills ? left - l : 0.0;
+            if (fills || n == VBL_UM_BLOCK_PIECES) {
+                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+                if (!vbl_um_times(&W, f, rng)) return 0.0;
+                n = 0;
+                exact = bound = 0.0;
+            }
+        }
     }
-    return tc * roulette * sum;
+    if (n > 0) {
+        const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+        if (!vbl_um_times(&W, f, rng)) return 0.0;
+    }
+    return W;
 }

@@ -1,7 +1,8 @@
 /* Unbiased ray-marching transmittance (Kettunen, d'Eon, Pantaleoni and Novak 2021, "An Unbiased
  * Ray-Marching Transmittance Estimator", secs. 3-5): T = exp(-tau) expanded as a power series
  * around a control optical depth tau_c, each factor an independent stratified (jittered) marched
- * estimate of tau, the series cut by Russian roulette. Unbiased, finite, and it may be negative
+ * estimate of tau, the series cut by Russian roulette, one series per block of bounded bound
+ * width (bounded variance at any depth). Unbiased, finite, and it may be negative
  * (documented in docs/readme/sampling.md "Shadow-ray transmittance"). */
 #ifndef VBL_VOLUME_TRANSMITTANCE_UNBIASED_MARCH_H
 #define VBL_VOLUME_TRANSMITTANCE_UNBIASED_MARCH_H
@@ -16,12 +17,16 @@
 /* Most points of one marched estimate in one majorant segment (bounds the work in dense media;
  * the estimate stays unbiased, only its variance grows). */
 #define VBL_UNBIASED_MARCH_MAX_POINTS 32
+/* Most bound width sum (majorant - minorant) / 2 x length of one block (one power series): the
+ * series' terms stay below ~exp(2 x this) at any optical depth (transmittance_unbiased_march.c). */
+#define VBL_UNBIASED_MARCH_BLOCK_DEPTH 1.0
 
 typedef struct vbl_unbiased_march_params {
     double rate;       /* > 0: points per unit residual optical depth of the factors' marches */
     double pilot_rate; /* > 0: the same for the control's (pilot) march */
     int max_points;    /* >= 1: per segment and estimate */
     double theta;      /* > 0: roulette scale: after factor k continue with min(1, |D_k| / (theta (k + 1))) */
+    double block_depth; /* > 0: most bound width of one block (VBL_UNBIASED_MARCH_BLOCK_DEPTH) */
 } vbl_unbiased_march_params;
 
 /* The defaults (rate = pilot_rate = VBL_UNBIASED_MARCH_RATE x `scale` for scale > 1, else x 1). */
