@@ -84,11 +84,7 @@ static vbl_result vbl_beam_light_begin(const vbl_render_context* ctx, const void
     double g_max = 0.0;
     for (int i = 0; i < scene->media_count; ++i) g_max = fmax(g_max, fabs(scene->media[i].g));
     s->beam.thin_sin = vbl_vsl_thin_cone_sin(g_max, settings->kernel_tolerance);
-    s->trace.store_vrls = 1;
-    s->trace.long_vrls = settings->long_vrls;
-    s->trace.cache_kind = ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA ? VBL_TRANSMITTANCE_CACHED_DELTA
-                                                                                     : VBL_TRANSMITTANCE_CACHED_RATIO;
-    s->trace.cache_entries = 16;
+    vbl_vl_trace_segments(ctx, s, settings->long_vrls);
     return VBL_SUCCESS;
 }
 

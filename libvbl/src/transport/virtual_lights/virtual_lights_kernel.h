@@ -56,6 +56,17 @@ typedef struct vbl_vl_gather {
     vbl_vec3* acc;
 } vbl_vl_gather;
 
+/* The trace settings of the segment kernels (ray, beam): store the VRLs (long ones split as asked),
+ * each with a 16-entry transmittance cache of the render's kind (delta if cached-delta, else ratio). */
+static inline void vbl_vl_trace_segments(const vbl_render_context* ctx, vbl_vl_store* s, int long_vrls)
+{
+    s->trace.store_vrls = 1;
+    s->trace.long_vrls = long_vrls;
+    s->trace.cache_kind = ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA ? VBL_TRANSMITTANCE_CACHED_DELTA
+                                                                                     : VBL_TRANSMITTANCE_CACHED_RATIO;
+    s->trace.cache_entries = 16;
+}
+
 struct vbl_vl_kernel {
     const char* name;
     int points;            /* 1: the lights are the store's VPLs; 0: its VRLs (segments, tree pieces) */

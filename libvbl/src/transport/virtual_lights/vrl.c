@@ -48,11 +48,7 @@ static vbl_result vbl_vrl_begin(const vbl_render_context* ctx, const void* setti
         s->connect.estimator = VBL_TRANSMITTANCE_RAY_MARCHING;
         s->connect.march_step = settings->march_step;
     }
-    s->trace.store_vrls = 1;
-    s->trace.long_vrls = settings->long_vrls;
-    s->trace.cache_kind = ctx->options.transmittance == VBL_TRANSMITTANCE_CACHED_DELTA ? VBL_TRANSMITTANCE_CACHED_DELTA
-                                                                                     : VBL_TRANSMITTANCE_CACHED_RATIO;
-    s->trace.cache_entries = 16;
+    vbl_vl_trace_segments(ctx, s, settings->long_vrls);
     return VBL_SUCCESS;
 }
 
