@@ -2,6 +2,7 @@
 #include "render_test_util.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,6 +43,64 @@ int rt_merge_scene_write(const char* prefix, char* path, size_t path_size)
             " \"phase\": {\"type\": \"hg\", \"g\": 0.3}}],\n"
             " \"render\": {\"passes\": 4, \"spp\": 2, \"seed\": 5, \"light_paths\": 40}}\n",
             fixtures);
+}
+
+vbl_scene* rt_ramp_box_load(double density_scale, double albedo, int res, const char* medium_extra)
+{
+    const char* fixtures = getenv("VBL_FIXTURE_DIR");
+    char text[2048], path[512];
+    snprintf(text, sizeof text,
+             "{\"camera\": {\"position\": [0.75, -6, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 20, "
+             "\"resolution\": [%d, %d]}, \"lights\": [{\"type\": \"distant\", \"direction\": [-0.6, 0.3, -1], "
+             "\"irradiance\": 2}], \"media\": [{\"vdb\": \"%s/albedo_ramp.vdb\", \"density_scale\": %.17g, "
+             "\"albedo\": %.17g%s}]}",
+             res, res, fixtures ? fixtures : "tests/fixtures", density_scale, albedo, medium_extra);
+    rt_write_file(rt_temp_dir, "scene.json", text, path);
+    vbl_scene* scene = NULL;
+    if (vbl_scene_load(path, &scene) != VBL_SUCCESS) {
+        printf("load failed: %s\n", vbl_last_error_message());
+        return NULL;
+    }
+    return scene;
+}
+
+int rt_layer_mean(const vbl_film* film, const char* layer, double* mean)
+{
+    int c = 0, w = vbl_film_width(film), h = vbl_film_height(film);
+    const float* p = vbl_film_layer(film, layer, &c);
+    if (!p) return -1;
+    double m = 0.0;
+    for (int i = 0; i < w * h; ++i)
+        for (int ch = 0; ch < 3; ++ch) {
+            if (!isfinite(p[i * c + ch])) return -1;
+            m += p[i * c + ch];
+        }
+    *mean = m / (3.0 * w * h);
+    return 0;
+}
+
+int rt_layer_replicas(const vbl_scene* scene, const vbl_render_options* base, const char* layer, int n,
+                      uint64_t seed0, double* mean, double* se)
+{
+    double s = 0.0, s2 = 0.0;
+    for (int k = 0; k < n; ++k) {
+        vbl_render_options o = *base;
+        o.seed = seed0 + (uint64_t)k;
+        vbl_film* film = NULL;
+        if (vbl_render(scene, &o, &film) != VBL_SUCCESS) {
+            printf("render failed: %s\n", vbl_last_error_message());
+            return -1;
+        }
+        double m = 0.0;
+        const int bad = rt_layer_mean(film, layer, &m);
+        vbl_film_release(film);
+        if (bad) return -1;
+        s += m;
+        s2 += m * m;
+    }
+    *mean = s / n;
+    *se = sqrt(fmax(0.0, (s2 - n * *mean * *mean) / (n - 1.0)) / n);
+    return 0;
 }
 
 vbl_scene* rt_lit_box;

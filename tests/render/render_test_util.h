@@ -2,7 +2,10 @@
 #ifndef VBL_RENDER_TEST_UTIL_H
 #define VBL_RENDER_TEST_UTIL_H
 
+#include <stdint.h>
+
 #include "scene/scene.h"
+#include "vbl/vbl.h"
 
 /* mkdtemp under $TMPDIR (or /tmp); the path is written into `out` (size >= 256). */
 void rt_make_temp_dir(char* out);
@@ -29,6 +32,22 @@ int rt_merge_scene_write(const char* prefix, char* path, size_t path_size);
 extern vbl_scene* rt_lit_box;
 int rt_lit_box_setup(int w, int h, double density_scale);
 int rt_lit_box_teardown(void** state);
+
+/* The albedo_ramp.vdb box of the vrl agreement tests (vrl bias, light guide): seen from -y at fov 20
+ * and res x res, lit by a slanted distant light (irradiance 2), with `density_scale`, a constant
+ * `albedo` and `medium_extra` appended to the medium (further fields such as
+ * ", \"phase\": {...}", or ""). Written into rt_temp_dir (rt_temp_dir_setup) and loaded; NULL
+ * (the message printed) on failure. */
+vbl_scene* rt_ramp_box_load(double density_scale, double albedo, int res, const char* medium_extra);
+
+/* The mean over pixels and RGB of `film`'s layer `layer` into *mean; -1 if the layer is missing or
+ * a value is not finite, else 0. */
+int rt_layer_mean(const vbl_film* film, const char* layer, double* mean);
+/* n renders of `scene` with `base` and seeds seed0 + k: the mean of their rt_layer_mean and its
+ * standard error across the renders; -1 on a render error (the message printed) or a failed
+ * rt_layer_mean, else 0. */
+int rt_layer_replicas(const vbl_scene* scene, const vbl_render_options* base, const char* layer, int n,
+                      uint64_t seed0, double* mean, double* se);
 
 /* A constant-value box volume: n^3 active voxels of value 1, voxel size h, voxel (0,0,0) at
  * world `origin` (OpenVDB convention: trilinear density 1 on [origin, origin + (n-1) h]^3,

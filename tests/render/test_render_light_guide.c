@@ -22,24 +22,14 @@
 
 static vbl_scene* load_box(double density_scale, double albedo, int res)
 {
-    const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    char text[2048], path[512];
-    snprintf(text, sizeof text,
-             "{\"camera\": {\"position\": [0.75, -6, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 20, "
-             "\"resolution\": [%d, %d]}, \"lights\": [{\"type\": \"distant\", \"direction\": [-0.6, 0.3, -1], "
-             "\"irradiance\": 2}], \"media\": [{\"vdb\": \"%s/albedo_ramp.vdb\", \"density_scale\": %.17g, "
-             "\"albedo\": %.17g, \"phase\": {\"type\": \"hg\", \"g\": 0.6}}]}",
-             res, res, fixtures ? fixtures : "tests/fixtures", density_scale, albedo);
-    rt_write_file(rt_temp_dir, "scene.json", text, path);
-    vbl_scene* scene = NULL;
-    vbl_result r = vbl_scene_load(path, &scene);
-    if (r) printf("load failed: %s\n", vbl_last_error_message());
-    assert_int_equal(r, VBL_SUCCESS);
+    vbl_scene* scene = rt_ramp_box_load(density_scale, albedo, res, ", \"phase\": {\"type\": \"hg\", \"g\": 0.6}");
+    assert_non_null(scene);
     return scene;
 }
 
-static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int guide, int passes, int spp,
-                        int first_pass, uint64_t seed, int threads)
+/* The options of one render of these tests. */
+static vbl_render_options guide_options(vbl_render_method method, int guide, int passes, int spp, int first_pass,
+                                        uint64_t seed, int threads)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     o.method = method;
@@ -50,6 +40,13 @@ static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int gu
     o.threads = threads;
     o.light_paths = 20;
     o.vrl.light_guide = guide;
+    return o;
+}
+
+static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int guide, int passes, int spp,
+                        int first_pass, uint64_t seed, int threads)
+{
+    const vbl_render_options o = guide_options(method, guide, passes, spp, first_pass, seed, threads);
     vbl_film* film = NULL;
     vbl_result r = vbl_render(scene, &o, &film);
     if (r) printf("render failed: %s\n", vbl_last_error_message());
@@ -59,31 +56,16 @@ static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int gu
 
 static double layer_mean(const vbl_film* film, const char* layer)
 {
-    int c = 0, w = vbl_film_width(film), h = vbl_film_height(film);
-    const float* p = vbl_film_layer(film, layer, &c);
-    assert_non_null(p);
     double m = 0.0;
-    for (int i = 0; i < w * h; ++i)
-        for (int ch = 0; ch < 3; ++ch) {
-            assert_true(isfinite(p[i * c + ch]));
-            m += p[i * c + ch];
-        }
-    return m / (3.0 * w * h);
+    assert_int_equal(rt_layer_mean(film, layer, &m), 0);
+    return m;
 }
 
 static void replicas(const vbl_scene* scene, vbl_render_method method, int guide, int passes, int spp, int n,
                      uint64_t seed0, double* mean, double* se)
 {
-    double s = 0.0, s2 = 0.0;
-    for (int k = 0; k < n; ++k) {
-        vbl_film* film = render(scene, method, guide, passes, spp, 0, seed0 + (uint64_t)k, 2);
-        double m = layer_mean(film, "volume_from_volume");
-        s += m;
-        s2 += m * m;
-        vbl_film_release(film);
-    }
-    *mean = s / n;
-    *se = sqrt(fmax(0.0, (s2 - n * *mean * *mean) / (n - 1.0)) / n);
+    const vbl_render_options o = guide_options(method, guide, passes, spp, 0, seed0, 2);
+    assert_int_equal(rt_layer_replicas(scene, &o, "volume_from_volume", n, seed0, mean, se), 0);
 }
 
 static void test_guide_built(void** state)

@@ -21,56 +21,23 @@
 
 static vbl_scene* load_box(double density_scale, double albedo)
 {
-    const char* fixtures = getenv("VBL_FIXTURE_DIR");
-    char text[2048], path[512];
-    snprintf(text, sizeof text,
-             "{\"camera\": {\"position\": [0.75, -6, 0.75], \"look_at\": [0.75, 0.75, 0.75], \"fov_deg\": 20, "
-             "\"resolution\": [8, 8]}, \"lights\": [{\"type\": \"distant\", \"direction\": [-0.6, 0.3, -1], "
-             "\"irradiance\": 2}], \"media\": [{\"vdb\": \"%s/albedo_ramp.vdb\", \"density_scale\": %.17g, "
-             "\"albedo\": %.17g}]}",
-             fixtures ? fixtures : "tests/fixtures", density_scale, albedo);
-    rt_write_file(rt_temp_dir, "scene.json", text, path);
-    vbl_scene* scene = NULL;
-    vbl_result r = vbl_scene_load(path, &scene);
-    if (r) printf("load failed: %s\n", vbl_last_error_message());
-    assert_int_equal(r, VBL_SUCCESS);
+    vbl_scene* scene = rt_ramp_box_load(density_scale, albedo, 8, "");
+    assert_non_null(scene);
     return scene;
 }
 
 /* Mean over pixels and RGB of volume_from_volume for n replicas (seeds seed0 + k), and its
- * standard error across replicas. */
+ * standard error across replicas (rt_layer_replicas). */
 static void replicas(const vbl_scene* scene, vbl_render_method method, int passes, int spp, int light_paths, int n,
                      uint64_t seed0, double* mean, double* se)
 {
-    double s = 0.0, s2 = 0.0;
-    for (int k = 0; k < n; ++k) {
-        vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-        o.method = method;
-        o.passes = passes;
-        o.spp = spp;
-        o.light_paths = light_paths;
-        o.seed = seed0 + (uint64_t)k;
-        o.threads = 1;
-        vbl_film* film = NULL;
-        vbl_result r = vbl_render(scene, &o, &film);
-        if (r) printf("render failed: %s\n", vbl_last_error_message());
-        assert_int_equal(r, VBL_SUCCESS);
-        int c = 0, w = vbl_film_width(film), h = vbl_film_height(film);
-        const float* p = vbl_film_layer(film, "volume_from_volume", &c);
-        assert_non_null(p);
-        double m = 0.0;
-        for (int i = 0; i < w * h; ++i)
-            for (int ch = 0; ch < 3; ++ch) {
-                assert_true(isfinite(p[i * c + ch]));
-                m += p[i * c + ch];
-            }
-        m /= 3.0 * w * h;
-        s += m;
-        s2 += m * m;
-        vbl_film_release(film);
-    }
-    *mean = s / n;
-    *se = sqrt(fmax(0.0, (s2 - n * *mean * *mean) / (n - 1.0)) / n);
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.method = method;
+    o.passes = passes;
+    o.spp = spp;
+    o.light_paths = light_paths;
+    o.threads = 1;
+    assert_int_equal(rt_layer_replicas(scene, &o, "volume_from_volume", n, seed0, mean, se), 0);
 }
 
 /* Returns z of vrl against pt; prints both. */
