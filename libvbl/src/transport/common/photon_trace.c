@@ -324,6 +324,18 @@ static void vbl_walk(const vbl_trace_shared* sh, vbl_extinction_cursor* cursor, 
     }
 }
 
+/* The light paths' source: the scene's lights emitting towards the sphere around the media and
+ * the surfaces, and the emissive media (photons from the fire too). 0 if nothing emits. */
+static int vbl_trace_source_init(const vbl_scene* scene, vbl_photon_source* source)
+{
+    vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
+    double radius = 0.0;
+    if (!vbl_photon_emission_sphere(scene, 1, &center, &radius)) return 0;
+    double power = vbl_photon_source_init(source, scene, center, radius);
+    if (scene->has_emission) power = vbl_photon_source_add_media(source, scene);
+    return power > 0.0;
+}
+
 void vbl_light_guide_free(vbl_light_guide* guide)
 {
     if (!guide) return;
@@ -339,20 +351,10 @@ vbl_result vbl_light_guide_build(const vbl_render_context* ctx, vbl_light_guide*
     if (!g) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the light guide", scene->path);
     vbl_trace_shared sh;
     memset(&sh, 0, sizeof sh);
-    {
-        vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
-        double radius = 0.0;
-        if ((scene->light_count == 0 && !scene->has_emission) || !vbl_camera_importance_build(ctx, &g->grid) ||
-            !(g->grid.total > 0.0) || !vbl_photon_emission_sphere(scene, 1, &center, &radius)) {
-            vbl_light_guide_free(g);
-            return VBL_SUCCESS;
-        }
-        double power = vbl_photon_source_init(&sh.source, scene, center, radius);
-        if (scene->has_emission) power = vbl_photon_source_add_media(&sh.source, scene);
-        if (!(power > 0.0)) {
-            vbl_light_guide_free(g);
-            return VBL_SUCCESS;
-        }
+    if ((scene->light_count == 0 && !scene->has_emission) || !vbl_camera_importance_build(ctx, &g->grid) ||
+        !(g->grid.total > 0.0) || !vbl_trace_source_init(scene, &sh.source)) {
+        vbl_light_guide_free(g);
+        return VBL_SUCCESS;
     }
     /* the calibration: unguided walks that store nothing, from a stream of their own */
     vbl_render_context c = *ctx;
@@ -438,13 +440,8 @@ vbl_result vbl_photon_trace_with_caustics(const vbl_render_context* ctx, const v
     sh.store_surface_vsls = store_surface_vsls && scene->surfaces != NULL;
     sh.caustics = sh.store_surface_vsls && cs.mode != VBL_CAUSTICS_OFF &&
                   vbl_materials_any_highly_specular(scene->materials, vbl_surfaces_count(scene->surfaces));
-    vbl_vec3 center = vbl_v3(0.0, 0.0, 0.0);
-    double radius = 0.0;
     /* emit towards the media and the surfaces (without media only with surface paths: above) */
-    if (!vbl_photon_emission_sphere(scene, 1, &center, &radius)) return VBL_SUCCESS;
-    double power = vbl_photon_source_init(&sh.source, scene, center, radius);
-    if (scene->has_emission) power = vbl_photon_source_add_media(&sh.source, scene); /* photons from the fire too */
-    if (!(power > 0.0)) return VBL_SUCCESS;
+    if (!vbl_trace_source_init(scene, &sh.source)) return VBL_SUCCESS;
 
     sh.guide = ctx->light_guide;
     sh.guide_mode = ctx->options.vrl.light_guide;
