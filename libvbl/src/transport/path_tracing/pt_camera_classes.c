@@ -9,7 +9,11 @@ void vbl_pt_camera_classes(const vbl_render_context* ctx, vbl_thread_state* ts, 
                            unsigned classes, vbl_rng* rng, vbl_sample_value* out)
 {
     const unsigned all = (1u << VBL_CLASS_COUNT) - 1u;
-    const unsigned keep = classes & ~ctx->skip_classes & all;
+    unsigned keep = classes & ~ctx->skip_classes & all;
+    /* classes no light can reach in this scene: no path for them */
+    if (!ctx->scene->has_visible_lights) keep &= ~(1u << VBL_CLASS_EMISSION);
+    if (!ctx->scene->has_emission) keep &= ~(1u << VBL_CLASS_VOLUME_EMISSION);
+    if (ctx->options.max_bounces == 0) keep &= ~(1u << VBL_CLASS_VOLUME_DIRECT);
     if (!keep) return;
     vbl_render_context pt_ctx = *ctx;
     pt_ctx.skip_classes = all & ~keep;
