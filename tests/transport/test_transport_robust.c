@@ -74,7 +74,8 @@ static void test_determinism(void** state)
 /* vpl, vrl and vbl take background and volume_direct from pt's camera path (pt_camera_classes.h):
  * with one sample per pass (the pixel stream is fresh every pass and pt's draws come first), their
  * layers are pt's bit for bit, with every light kind (point and distant: equiangular / collision
- * NEE MIS; quad and environment: NEE / phase MIS, the environment seen through the medium). */
+ * NEE MIS; quad and environment: NEE / phase MIS, the environment seen through the medium), also
+ * at max_bounces 1. */
 static void test_single_scatter_is_pt(void** state)
 {
     (void)state;
@@ -113,6 +114,13 @@ static void test_single_scatter_is_pt(void** state)
         }
         vbl_film_release(f);
     }
+    /* max_bounces 1: the same (pt's path still traces vertex 1's continuation for the MIS of
+     * quad and environment lights; pt_camera_classes.c) */
+    vbl_film* f = render(s, &vbl_estimator_vrl, 2, 1, 20);
+    for (int k = 0; k < 2; ++k)
+        assert_memory_equal(vbl_film_layer_rgb(ref, layers[k]), vbl_film_layer_rgb(f, layers[k]),
+                            sizeof(float) * 3 * 12 * 12);
+    vbl_film_release(f);
     vbl_film_release(ref);
     vbl_scene_release(s);
     vt_free(vol);

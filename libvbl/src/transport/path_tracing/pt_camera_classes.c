@@ -17,6 +17,11 @@ void vbl_pt_camera_classes(const vbl_render_context* ctx, vbl_thread_state* ts, 
     if (!keep) return;
     vbl_render_context pt_ctx = *ctx;
     pt_ctx.skip_classes = all & ~keep;
+    /* every class kept ends at the first vertex, so the skipped classes stop the path there: with
+     * max_bounces >= 1 the path runs unlimited so that vertex 1 traces its phase-sampled
+     * continuation, the other half of the NEE / phase MIS of quad and environment lights (pt at
+     * its max_bounces vertex keeps the NEE's MIS weight without it) */
+    if (pt_ctx.options.max_bounces >= 1) pt_ctx.options.max_bounces = -1;
     vbl_sample_value v;
     memset(&v, 0, sizeof v);
     vbl_pt_camera_sample(&pt_ctx, NULL, ts, sample, rng, &v);

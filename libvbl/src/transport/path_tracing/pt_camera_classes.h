@@ -13,7 +13,11 @@
  * dimensions. Running that path with every other class skipped (vbl_render_context.skip_classes)
  * gives the same estimator, value for value in distribution, as pt's own layers: the path stops
  * where every class it could still add to is skipped (vbl_pt_path_skipped), so the cost is pt's
- * camera segment and its first scattering event. */
+ * camera segment and its first scattering event (with the continuation ray pt traces from it).
+ * With max_bounces >= 1 the path runs unlimited (the skipped classes stop it anyway), so that the
+ * first vertex also traces its phase-sampled continuation, the other half of the quad and
+ * environment lights' NEE / phase MIS that pt drops at its max_bounces vertex: the classes here
+ * are then those of pt with max_bounces -1 (unbiased). */
 #ifndef VBL_TRANSPORT_PT_CAMERA_CLASSES_H
 #define VBL_TRANSPORT_PT_CAMERA_CLASSES_H
 
