@@ -9,6 +9,8 @@ seed (ABBA), so load changes hit both alike. Efficiency at equal CPU: rMAE * sqr
 
 usage: /usr/bin/python3 bench/vlsingle_race.py OLD_VBL NEW_VBL OUT_DIR [--resolution 64x64]
        [--seeds 2] [--passes 16] [--ref-passes 128] [--scenes room,spot_smoke,...]
+A rerun on the same OUT_DIR skips the renders listed in OUT_DIR/cpu.json (and the references
+there), so a run can be split over processes and the report made from their merged outputs.
 """
 import argparse
 import json
@@ -55,6 +57,8 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
     rows = []
+    cpu_path = os.path.join(a.out, "cpu.json")  # {exr name: CPU s}: a rerun skips what it holds
+    cpus = json.load(open(cpu_path)) if os.path.exists(cpu_path) else {}
     for name in a.scenes.split(","):
         scene = os.path.join(here, f"race_{name}.json")
         halves = []
@@ -77,7 +81,14 @@ def main():
                 configs += [(f"{method} {tag}", b, method, extra) for tag, b in pair]
             for label, binary, method, extra in configs:
                 out = os.path.join(a.out, f"{name}_{label.replace(' ', '_')}_{seed}.exr")
-                cpu = run(binary, scene, out, method, a.passes, seed, a.resolution, extra)
+                key = os.path.basename(out)
+                if key in cpus and os.path.exists(out):  # resumed: rendered before, its CPU time kept
+                    cpu = cpus[key]
+                else:
+                    cpu = run(binary, scene, out, method, a.passes, seed, a.resolution, extra)
+                    cpus[key] = cpu
+                    with open(cpu_path, "w") as f:
+                        json.dump(cpus, f, indent=1)
                 img = score.read_vbl_layers(out)
                 for layer in LAYERS:
                     if layer not in ref or layer not in img or not np.any(ref[layer]):
