@@ -1,6 +1,6 @@
 /* The path tracer against closed forms: white furnace (albedo 1 in a constant environment returns
  * the environment), single scattering from a distant and a point light vs numerical quadrature
- * (pt with max_bounces 1, full pt's volume_direct layer, and the single-scatter estimator), layer
+ * (pt with max_bounces 1, full pt's volume_direct layer, and vrl's, which is pt's estimator), layer
  * sums, determinism across thread counts, dense media and extreme parameters. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -15,7 +15,7 @@
 #include "quad.h"
 #include "render/render_internal.h"
 #include "render_test_util.h"
-#include "transport/common/single_scatter.h"
+#include "transport/virtual_lights/vrl.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
 
@@ -243,12 +243,12 @@ static void single_scatter_case(int point)
         int pt_equiangular;
     } runs[4] = {{"pt max_bounces=1", 1, NULL, "volume_direct", 1},
                  {"pt unlimited (volume_direct layer)", -1, NULL, "volume_direct", 1},
-                 {"single-scatter estimator", -1, &vbl_estimator_single_scatter, "volume_direct",
-                  1},
+                 {"vrl (pt_camera_classes.h)", -1, &vbl_estimator_vrl, "volume_direct", 1},
                  {"pt max_bounces=1, equiangular off", 1, NULL, "volume_direct", 0}};
     for (int k = 0; k < 4; ++k) {
         vbl_render_options o = options_for(2, 32, runs[k].max_bounces, 100 + k);
         o.pt.equiangular = runs[k].pt_equiangular;
+        o.light_paths = 16; /* vrl: its volume_direct needs no light paths */
         vbl_film* film = NULL;
         if (runs[k].est)
             assert_int_equal(vbl_render_with_estimator(scene, &o, runs[k].est, &film), VBL_SUCCESS);

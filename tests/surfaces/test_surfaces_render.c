@@ -22,7 +22,7 @@
 #include "render_test_util.h"
 #include "scene/scene.h"
 #include "material/material.h"
-#include "transport/common/single_scatter.h"
+#include "transport/path_tracing/pt.h"
 #include "vbl/vbl.h"
 
 static vbl_material lambert(double a)
@@ -131,14 +131,14 @@ static void test_shadow_rays_blocked(void** state)
     o.spp = 4;
     o.threads = 2;
     vbl_film* film = NULL;
-    assert_int_equal(vbl_render_with_estimator(scene, &o, &vbl_estimator_single_scatter, &film), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(scene, &o, &vbl_estimator_pt, &film), VBL_SUCCESS);
     double lit = layer_sum(film, "volume_direct");
     assert_true(lit > 0.0);
     vbl_film_release(film);
     /* an opaque roof between the light and the medium: single scattering is exactly zero */
     vbl_material m = lambert(0.5);
     add_square(scene, vbl_v3(0, 0, 4), vbl_v3(1, 0, 0), vbl_v3(0, 1, 0), 10.0, &m);
-    assert_int_equal(vbl_render_with_estimator(scene, &o, &vbl_estimator_single_scatter, &film), VBL_SUCCESS);
+    assert_int_equal(vbl_render_with_estimator(scene, &o, &vbl_estimator_pt, &film), VBL_SUCCESS);
     assert_true(layer_max_abs(film, "volume_direct") == 0.0);
     vbl_film_release(film);
     /* pt, vpl, vrl: no light reaches the medium, nothing scatters in it */

@@ -23,7 +23,7 @@
  *
  * Records (light carried by segment k has scattered k times; scattering once more on it and once
  * at the camera point makes k + 2 events, so the virtual lights only ever produce
- * volume_from_volume; single scattering is the shared single_scatter estimator's job):
+ * volume_from_volume; single scattering is pt's estimator's job, pt_camera_classes.h):
  *   VRL k: origin = the segment's entry into the media, unit direction, power Phi_k and
  *          - short VRLs (default): length to the free-flight collision (or the media exit if the
  *            photon escaped). Transmittance along the VRL is then accounted for by the random

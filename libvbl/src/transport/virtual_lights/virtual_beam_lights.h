@@ -4,8 +4,8 @@
  * R_p, progressively shrunk per pass (eq 11, transport/common/radius_schedule.h, d = 2).
  *
  * Per camera sample:
- *   emission            quad/environment lights seen directly (light_emission.h);
- *   volume_direct       the shared single-scattering estimator (single_scatter.h), as pt and vrl;
+ *   emission            quad/environment lights seen directly, pt's estimator (pt_camera_classes.h);
+ *   volume_direct       pt's estimator (pt_camera_classes.h), as vrl, or the bounce-0 beams;
  *   volume_from_volume  for every VRL l of the pass (bounce k, k + 2 <= max_bounces), `samples`
  *                       pairs (u, v) from the two-stage sampler of section 3.2
  *                       (sampling/beam_light_pair.h), each contributing eq (10):
@@ -39,7 +39,7 @@ typedef struct vbl_beam_light_settings {
     int samples;        /* (u, v) samples per VRL / camera-ray pair, >= 1 */
     int kernel_samples; /* directions per strategy of the VSL kernel, >= 1 */
     int long_vrls;      /* 1: VRLs to the media exit with cached transmittance */
-    /* volume_direct: 0 the shared equiangular estimator (single_scatter.h), 1 progressive photon
+    /* volume_direct: 0 pt's estimator (pt_camera_classes.h), 1 progressive photon
      * beams of bounce 0 from the same photon tracing (photon_beams.h; the trace then also keeps
      * the bounce-(M-1) segments the VBLs skip) with their own width schedule: */
     int beams_single_scattering;

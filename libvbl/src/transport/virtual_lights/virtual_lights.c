@@ -3,13 +3,14 @@
 #include "transport/virtual_lights/virtual_lights_kernel.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 #include "media/medium.h"
 #include "sampling/step_pdf.h"
 #include "transport/common/emission_estimate.h"
 #include "transport/common/light_emission.h"
-#include "transport/common/single_scatter.h"
+#include "transport/path_tracing/pt_camera_classes.h"
 #include "transport/photon_beams/photon_beams.h"
 
 double vbl_segment_distance(vbl_vec3 p0, vbl_vec3 a, double la, vbl_vec3 q0, vbl_vec3 b, double lb)
@@ -223,13 +224,18 @@ void vbl_vl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const vbl_vl_store* s = store;
     const vbl_scene* scene = ctx->scene;
     const vbl_vec3 o = sample->origin, d = sample->direction;
-    const int M = ctx->options.max_bounces;
-    vbl_add_visible_emission(ctx, ts, o, d, rng, out);
-    const int beams_direct = s && s->beams_direct; /* then the fire's bounce-0 beams are its volume_direct */
-    vbl_camera_media_emission(ctx, ts, sample, (beams_direct ? 0 : VBL_EMISSION_DIRECT_VOLUME) | VBL_EMISSION_DIRECT_SURFACE,
-                              rng, out);
-    if (!beams_direct && M != 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT))
-        vbl_single_scatter_estimate_to(ctx, ts, o, d, sample->t_max, rng, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+    const int beams_direct = s && s->beams_direct; /* then the bounce-0 beams are its volume_direct */
+    /* emission, volume_emission and volume_direct: pt's estimator (pt_camera_classes.h) */
+    unsigned from_pt = VBL_PT_SINGLE_SCATTER_CLASSES;
+    if (beams_direct) from_pt &= ~(1u << VBL_CLASS_VOLUME_DIRECT);
+    vbl_pt_camera_classes(ctx, ts, sample, from_pt, rng, out);
+    if (scene->has_emission && scene->surfaces && vbl_ctx_wants(ctx, VBL_CLASS_SURFACE_DIRECT)) {
+        /* the emissive media's surface_direct (emission_estimate.h); its volume_emission is pt's */
+        vbl_sample_value e;
+        memset(&e, 0, sizeof e);
+        vbl_camera_media_emission(ctx, ts, sample, VBL_EMISSION_DIRECT_SURFACE, rng, &e);
+        out->L[VBL_CLASS_SURFACE_DIRECT] = vbl_v3_add(out->L[VBL_CLASS_SURFACE_DIRECT], e.L[VBL_CLASS_SURFACE_DIRECT]);
+    }
     if (scene->surfaces && s) vbl_surface_gather_hit(ctx, ts, &s->photons, &s->gather, sample, rng, out);
     const size_t lights = s ? (s->kernel->points ? s->photons.vpl_count : s->photons.vrl_count) : 0;
     if (!s || (lights == 0 && s->photons.surface_vsl_count == 0 && !s->gather.blue_noise)) return;

@@ -7,9 +7,12 @@
  *                select = K > 0 (vrl_tree.h), the surface gather settings and blue-noise VSLs
  *                (surface_gather.h), all freed by one pass end;
  *   per camera sample
- *     emission            quad/environment lights seen directly (light_emission.h) and media emission;
- *     volume_direct       the shared single-scattering estimator (single_scatter.h), as pt, or
- *                         vbl's bounce-0 photon beams (photon_beams.h);
+ *     emission            quad/environment lights seen directly, and volume_emission: pt's estimator
+ *                         (pt_camera_classes.h), the emissive media's surface_direct
+ *                         (emission_estimate.h);
+ *     volume_direct       pt's estimator (pt_camera_classes.h: pt's camera path with every other
+ *                         class skipped, the same numbers as pt's layer), or vbl's bounce-0
+ *                         photon beams (photon_beams.h);
  *     surface_*           the surface gathers at the first hit and along the camera segment
  *                         (surface_gather.h);
  *     volume_from_volume  one camera-ray transmittance cache (vbl_vl_camera_cache), then every

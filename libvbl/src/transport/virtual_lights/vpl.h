@@ -4,8 +4,8 @@
  * cache, single scattering, the surface gathers and hybrid masks are shared there).
  * Per pass: photon tracing (photon_trace.h) stores the scattering vertices as VPLs. Per camera
  * sample, with [u0, u1] the camera ray's overlap with the media:
- *   emission        quad/environment lights seen directly, attenuated (light_emission.h);
- *   volume_direct   the shared single-scattering estimator (single_scatter.h), as pt;
+ *   emission        quad/environment lights seen directly, pt's estimator (pt_camera_classes.h);
+ *   volume_direct   pt's estimator (pt_camera_classes.h);
  *   volume_from_volume
  *       sum over VPLs j of  T_c(u) sigma_s(u) f(theta_u) I_j(theta_j) T(x_u, x_j) / (w^2 pdf(u)),
  *       u equiangular toward the VPL (pdf(u) proportional to 1/w^2 on [u0, u1]); T_c from one

@@ -9,8 +9,8 @@
  * piecewise-linear fit of the two HG lobes, appendix A; analytic Cauchy for isotropic media).
  *
  * Per camera sample:
- *   emission            quad/environment lights seen directly (light_emission.h);
- *   volume_direct       the shared single-scattering estimator (single_scatter.h), as pt;
+ *   emission            quad/environment lights seen directly, pt's estimator (pt_camera_classes.h);
+ *   volume_direct       pt's estimator (pt_camera_classes.h);
  *   volume_from_volume  the sum over VRLs of the estimate above (a VRL of bounce k yields light
  *                       that scattered k + 2 times; only VRLs with k + 2 <= max_bounces count);
  * and with surfaces (surface_gather.h; the photon walk continues through surfaces and records
