@@ -81,9 +81,9 @@ double vbl_grid_sample_index_trilinear_far(vbl_grid_accessor* a, vbl_vec3 p);
 #define VBL_GRID_NEAR 2147483000.0
 
 /* The 8 voxels around (i, j, k) (d[4 dx + 2 dy + dz] = voxel (i + dx, j + dy, k + dz)) and the
- * trilinear blend with weights (u, v, w) in [0, 1]. Inside one region (7 footprints in 8 along a
- * ray) one cache probe serves all 8 voxels; a footprint across region faces probes once per voxel
- * (every probe after the first hits once the regions are cached). The same floats as 8 separate
+ * trilinear blend with weights (u, v, w) in [0, 1]. Inside one region ((7/8)^3 of the footprints)
+ * one cache probe serves all 8 voxels; a footprint across region faces probes once per region it
+ * touches (every probe hits once the regions are cached). The same floats as 8 separate
  * accessor fetches and OpenVDB BoxSampler's order of lerps, so results are bit-identical to them. */
 static inline double vbl_grid_trilinear_at(vbl_grid_accessor* a, int i, int j, int k, double u, double v, double w)
 {
@@ -101,14 +101,26 @@ static inline double vbl_grid_trilinear_at(vbl_grid_accessor* a, int i, int j, i
         memcpy(&d110, &t[(o + 72u) & m], 4);
         memcpy(&d111, &t[(o + 73u) & m], 4);
     } else {
-        d000 = vbl_grid_region_value(vbl_grid_region_of(a, i, j, k), i, j, k);
-        d001 = vbl_grid_region_value(vbl_grid_region_of(a, i, j, k + 1), i, j, k + 1);
-        d010 = vbl_grid_region_value(vbl_grid_region_of(a, i, j + 1, k), i, j + 1, k);
-        d011 = vbl_grid_region_value(vbl_grid_region_of(a, i, j + 1, k + 1), i, j + 1, k + 1);
-        d100 = vbl_grid_region_value(vbl_grid_region_of(a, i + 1, j, k), i + 1, j, k);
-        d101 = vbl_grid_region_value(vbl_grid_region_of(a, i + 1, j, k + 1), i + 1, j, k + 1);
-        d110 = vbl_grid_region_value(vbl_grid_region_of(a, i + 1, j + 1, k), i + 1, j + 1, k);
-        d111 = vbl_grid_region_value(vbl_grid_region_of(a, i + 1, j + 1, k + 1), i + 1, j + 1, k + 1);
+        /* r[dx][dy][dz]: the region of voxel (i + dx, j + dy, k + dz); along an axis that crosses
+         * no region face both voxels share one, so one face costs 2 probes, an edge 4, a corner 8 */
+        const int sx = (i & 7) == 7, sy = (j & 7) == 7, sz = (k & 7) == 7;
+        const vbl_grid_region* r000 = vbl_grid_region_of(a, i, j, k);
+        const vbl_grid_region* r001 = sz ? vbl_grid_region_of(a, i, j, k + 1) : r000;
+        const vbl_grid_region* r010 = sy ? vbl_grid_region_of(a, i, j + 1, k) : r000;
+        const vbl_grid_region* r011 = sy ? (sz ? vbl_grid_region_of(a, i, j + 1, k + 1) : r010) : r001;
+        const vbl_grid_region* r100 = sx ? vbl_grid_region_of(a, i + 1, j, k) : r000;
+        const vbl_grid_region* r101 = sx ? (sz ? vbl_grid_region_of(a, i + 1, j, k + 1) : r100) : r001;
+        const vbl_grid_region* r110 = sx ? (sy ? vbl_grid_region_of(a, i + 1, j + 1, k) : r100) : r010;
+        const vbl_grid_region* r111 =
+            sx ? (sy ? (sz ? vbl_grid_region_of(a, i + 1, j + 1, k + 1) : r110) : r101) : r011;
+        d000 = vbl_grid_region_value(r000, i, j, k);
+        d001 = vbl_grid_region_value(r001, i, j, k + 1);
+        d010 = vbl_grid_region_value(r010, i, j + 1, k);
+        d011 = vbl_grid_region_value(r011, i, j + 1, k + 1);
+        d100 = vbl_grid_region_value(r100, i + 1, j, k);
+        d101 = vbl_grid_region_value(r101, i + 1, j, k + 1);
+        d110 = vbl_grid_region_value(r110, i + 1, j + 1, k);
+        d111 = vbl_grid_region_value(r111, i + 1, j + 1, k + 1);
     }
     const float x0 = vbl_grid_lerp(vbl_grid_lerp(d000, d001, w), vbl_grid_lerp(d010, d011, w), v);
     const float x1 = vbl_grid_lerp(vbl_grid_lerp(d100, d101, w), vbl_grid_lerp(d110, d111, w), v);
