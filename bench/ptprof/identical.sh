@@ -5,13 +5,14 @@
 NEW=${1:-build/bin/vbl}
 OUT=${2:-/tmp/ptprof/ident}
 BASE=${VBL_BASE:-/work/base}
+NEWLIB=$(dirname "$NEW") # a copied binary with its libvbl.so.0 beside it (else its RUNPATH's)
 mkdir -p "$OUT"
 run() { # name scene args...
     name=$1; scene=$2; shift 2
     LD_LIBRARY_PATH=$BASE $BASE/vbl render "$scene" -o "$OUT/$name.old.exr" -q "$@" >/dev/null 2>&1 || echo "$name: old failed"
-    $NEW render "$scene" -o "$OUT/$name.new.exr" -q "$@" >/dev/null 2>&1 || echo "$name: new failed"
+    LD_LIBRARY_PATH=$NEWLIB $NEW render "$scene" -o "$OUT/$name.new.exr" -q "$@" >/dev/null 2>&1 || echo "$name: new failed"
     printf '%-28s ' "$name"
-    $NEW diff "$OUT/$name.new.exr" "$OUT/$name.old.exr" --json | /usr/bin/python3 -c '
+    LD_LIBRARY_PATH=$NEWLIB $NEW diff "$OUT/$name.new.exr" "$OUT/$name.old.exr" --json | /usr/bin/python3 -c '
 import json,sys
 d=json.load(sys.stdin)
 L=d.get("layers",d)
@@ -25,7 +26,17 @@ done
 run pt_room_residual_mid $S/race_room.json --resolution 32x32 --passes 2 --spp 2 --pt-shadow-transmittance residual-mid
 run pt_cloud_delta $S/race_cloud.json --resolution 32x32 --passes 2 --spp 2 --transmittance delta
 run pt_cloud_march $S/race_cloud.json --resolution 32x32 --passes 2 --spp 2 --transmittance march
-for m in vrl vbl vpl beams; do
+for m in vrl vbl; do
     run "${m}_room" $S/race_room.json --method $m --resolution 32x32 --passes 2 --spp 2
     run "${m}_cloud" $S/race_cloud.json --method $m --resolution 32x32 --passes 2 --spp 2
+done
+for m in vpl beams; do
+    run "${m}_room" $S/race_room.json --method $m --resolution 24x24 --passes 1 --spp 1 --light-paths 2000
+    run "${m}_cloud" $S/race_cloud.json --method $m --resolution 24x24 --passes 1 --spp 1 --light-paths 2000
+done
+# motion blur (velocity grids, advected lookups), emissive media and albedo grids, if the samples exist
+for sc in samples/*.json; do
+    [ -f "$sc" ] || continue
+    n=$(basename "$sc" .json)
+    run "pt_sample_$n" "$sc" --resolution 24x24 --passes 1 --spp 2
 done
