@@ -122,7 +122,7 @@ double vbl_extinction_eval(const vbl_extinction* ext, vbl_extinction_cursor* cur
             vbl_vec3 p = vbl_affine_point(&m->scene_to_volume, point);
             if (cursor->time != 0.0 && m->velocity.v[0])
                 p = vbl_velocity_advect(&m->velocity, cursor->velocity[c], p, cursor->time);
-            s = m->density_scale * vbl_grid_sample_world(&cursor->accessors[c], p, VBL_FILTER_TRILINEAR);
+            s = m->density_scale * vbl_grid_sample_world_trilinear_inline(&cursor->accessors[c], p);
         }
         if (per_component) per_component[c] = s;
         sum += s;
@@ -155,12 +155,12 @@ int vbl_extinction_ray_bounds(const vbl_extinction* ext, vbl_vec3 origin, vbl_ve
     for (int c = 0; c < ext->count; ++c) {
         vbl_vec3 o, d;
         vbl_extinction_component_ray(&ext->components[c], origin, direction, &o, &d);
-        vbl_majorant_iter it;
-        vbl_majorant_iter_init_grid(&it, vbl_component_majorant(&ext->components[c]),
-                                    &ext->components[c].volume->world_to_index, o, d, tmin, tmax);
-        if (it.done) continue;
-        if (it.t < lo) lo = it.t;
-        if (it.t_end > hi) hi = it.t_end;
+        double a, b;
+        if (!vbl_majorant_iter_clip(vbl_component_majorant(&ext->components[c]),
+                                    &ext->components[c].volume->world_to_index, o, d, tmin, tmax, &a, &b))
+            continue;
+        if (a < lo) lo = a;
+        if (b > hi) hi = b;
     }
     if (!(lo < hi)) return 0;
     *t_enter = lo;
@@ -207,7 +207,7 @@ void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* e
     }
 }
 
-int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* segment)
+int vbl_extinction_iter_next_merged(vbl_extinction_iter* iter, vbl_majorant_segment* segment)
 {
     const vbl_extinction* ext = iter->ext;
     if (iter->use_global) {
@@ -215,13 +215,6 @@ int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* se
         *segment = iter->pending[0];
         iter->has_pending[0] = 0;
         return segment->t1 > segment->t0;
-    }
-    if (ext->count == 1) { /* fast path: no merging */
-        const double s = ext->components[0].density_scale;
-        if (!vbl_majorant_iter_next_inline(&iter->iters[0], segment)) return 0;
-        segment->majorant *= s;
-        segment->minorant *= s;
-        return 1;
     }
     for (;;) {
         /* Refill pending segments; find the next event after t. */

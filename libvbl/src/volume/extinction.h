@@ -89,7 +89,22 @@ typedef struct vbl_extinction_iter {
 
 void vbl_extinction_iter_init(vbl_extinction_iter* iter, const vbl_extinction* ext, vbl_vec3 origin,
                               vbl_vec3 direction, double tmin, double tmax, int use_global_majorant);
-int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* segment);
+/* vbl_extinction_iter_next of several components or the global majorant (extinction.c). */
+int vbl_extinction_iter_next_merged(vbl_extinction_iter* iter, vbl_majorant_segment* segment);
+
+/* The next merged segment: 1 and `segment` filled, 0 past the end. Inline for the tracking loops:
+ * one component is its block walk with the bounds scaled (no merging); several, or the global
+ * majorant, go to the merge. */
+static inline int vbl_extinction_iter_next(vbl_extinction_iter* iter, vbl_majorant_segment* segment)
+{
+    const vbl_extinction* ext = iter->ext;
+    if (ext->count != 1 || iter->use_global) return vbl_extinction_iter_next_merged(iter, segment);
+    const double s = ext->components[0].density_scale;
+    if (!vbl_majorant_iter_next_inline(&iter->iters[0], segment)) return 0;
+    segment->majorant *= s;
+    segment->minorant *= s;
+    return 1;
+}
 
 /* Conservative parameter interval where the ray overlaps any component's support; returns 0
  * if none. */

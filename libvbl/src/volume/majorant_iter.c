@@ -38,6 +38,62 @@ void vbl_majorant_iter_init_grid(vbl_majorant_iter* it, const vbl_majorant_grid*
     vbl_majorant_iter_init_coarse(it, g, world_to_index, origin, direction, tmin, tmax, 0.0, 0.0);
 }
 
+/* The ray in block units and its clip to the grid's box: fills org, inv_dir, step and t_delta and
+ * the world-space direction in block units (dir_out); returns 1 with the overlap [*t_enter,
+ * *t_exit] of [tmin, tmax] with the box, 0 if there is none (or the ray is not finite). The one
+ * slab test of vbl_majorant_iter_init_coarse and vbl_majorant_iter_clip (same arithmetic). */
+static inline int vbl_dda_setup(vbl_majorant_iter* it, const vbl_majorant_grid* g, const vbl_affine* world_to_index,
+                                vbl_vec3 origin, vbl_vec3 direction, double tmin, double tmax, double dir_out[3],
+                                double* t_enter, double* t_exit)
+{
+    if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0 || !g->max_density) return 0;
+    if (!(tmin < tmax)) return 0; /* zero-length, reversed or NaN interval: no segments */
+
+    vbl_vec3 o = vbl_affine_point(world_to_index, origin);
+    vbl_vec3 d = vbl_affine_vector(world_to_index, direction);
+    const double inv_block = 1.0 / (double)g->block;
+    double oa[3] = {o.x, o.y, o.z}, da[3] = {d.x, d.y, d.z};
+    double t0 = tmin, t1 = tmax;
+    for (int a = 0; a < 3; ++a) {
+        it->org[a] = (oa[a] - (double)g->origin[a]) * inv_block;
+        double dir = da[a] * inv_block;
+        dir_out[a] = dir;
+        if (!isfinite(it->org[a]) || !isfinite(dir)) return 0;
+        if (dir == 0.0) {
+            it->step[a] = 0;
+            it->inv_dir[a] = 0.0;
+            it->t_delta[a] = INFINITY;
+            if (it->org[a] < 0.0 || it->org[a] > (double)g->dims[a]) return 0;
+            continue;
+        }
+        it->step[a] = dir > 0.0 ? 1 : -1;
+        it->inv_dir[a] = 1.0 / dir; /* may be inf for subnormal dir: handled below */
+        it->t_delta[a] = fabs(it->inv_dir[a]);
+        double ta = (0.0 - it->org[a]) * it->inv_dir[a];
+        double tb = ((double)g->dims[a] - it->org[a]) * it->inv_dir[a];
+        if (ta > tb) {
+            double s = ta;
+            ta = tb;
+            tb = s;
+        }
+        if (isnan(ta) || isnan(tb)) return 0;
+        if (ta > t0) t0 = ta;
+        if (tb < t1) t1 = tb;
+    }
+    if (!(t0 < t1)) return 0;
+    *t_enter = t0;
+    *t_exit = t1;
+    return 1;
+}
+
+int vbl_majorant_iter_clip(const vbl_majorant_grid* g, const vbl_affine* world_to_index, vbl_vec3 origin,
+                           vbl_vec3 direction, double tmin, double tmax, double* t_enter, double* t_exit)
+{
+    vbl_majorant_iter it;
+    double dir[3];
+    return vbl_dda_setup(&it, g, world_to_index, origin, direction, tmin, tmax, dir, t_enter, t_exit);
+}
+
 void vbl_majorant_iter_init_coarse(vbl_majorant_iter* it, const vbl_majorant_grid* g, const vbl_affine* world_to_index,
                                    vbl_vec3 origin, vbl_vec3 direction, double tmin, double tmax, double coarse_tau,
                                    double coarse_ratio)
@@ -52,44 +108,12 @@ void vbl_majorant_iter_init_coarse(vbl_majorant_iter* it, const vbl_majorant_gri
     it->coarse_tau = coarse_tau > 0.0 ? coarse_tau : 0.0; /* NaN: 0 */
     it->coarse_ratio = coarse_ratio >= 1.0 ? coarse_ratio : 0.0;
     it->coarse_merge = (it->coarse_tau > 0.0 || it->coarse_ratio > 0.0) && use_coarse;
-    if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0 || !g->max_density) return;
-    if (!(tmin < tmax)) return; /* zero-length, reversed or NaN interval: no segments */
-
-    vbl_vec3 o = vbl_affine_point(world_to_index, origin);
-    vbl_vec3 d = vbl_affine_vector(world_to_index, direction);
-    const double inv_block = 1.0 / (double)g->block;
-    double oa[3] = {o.x, o.y, o.z}, da[3] = {d.x, d.y, d.z};
-    double t0 = tmin, t1 = tmax;
-    for (int a = 0; a < 3; ++a) {
-        it->org[a] = (oa[a] - (double)g->origin[a]) * inv_block;
-        double dir = da[a] * inv_block;
-        if (!isfinite(it->org[a]) || !isfinite(dir)) return;
-        if (dir == 0.0) {
-            it->step[a] = 0;
-            it->inv_dir[a] = 0.0;
-            it->t_delta[a] = INFINITY;
-            if (it->org[a] < 0.0 || it->org[a] > (double)g->dims[a]) return;
-            continue;
-        }
-        it->step[a] = dir > 0.0 ? 1 : -1;
-        it->inv_dir[a] = 1.0 / dir; /* may be inf for subnormal dir: handled below */
-        it->t_delta[a] = fabs(it->inv_dir[a]);
-        double ta = (0.0 - it->org[a]) * it->inv_dir[a];
-        double tb = ((double)g->dims[a] - it->org[a]) * it->inv_dir[a];
-        if (ta > tb) {
-            double s = ta;
-            ta = tb;
-            tb = s;
-        }
-        if (isnan(ta) || isnan(tb)) return;
-        if (ta > t0) t0 = ta;
-        if (tb < t1) t1 = tb;
-    }
-    if (!(t0 < t1)) return;
+    double da[3], t0, t1;
+    if (!vbl_dda_setup(it, g, world_to_index, origin, direction, tmin, tmax, da, &t0, &t1)) return;
 
     /* Entry cell from the point at t0 (clamped: rounding may put it an ulp outside). */
     for (int a = 0; a < 3; ++a) {
-        double dir = it->step[a] == 0 ? 0.0 : da[a] * inv_block;
+        double dir = it->step[a] == 0 ? 0.0 : da[a];
         double q = it->org[a] + dir * t0;
         double c = floor(q);
         if (!(c >= 0.0)) c = 0.0;

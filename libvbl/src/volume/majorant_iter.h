@@ -50,6 +50,11 @@ void vbl_majorant_iter_init_grid(vbl_majorant_iter* iter, const vbl_majorant_gri
 void vbl_majorant_iter_init_coarse(vbl_majorant_iter* iter, const vbl_majorant_grid* grid,
                                    const vbl_affine* world_to_index, vbl_vec3 origin, vbl_vec3 direction, double tmin,
                                    double tmax, double coarse_tau, double coarse_ratio);
+/* The interval the iterator above would walk, without walking: 1 with the overlap [*t_enter,
+ * *t_exit] of [tmin, tmax] with the grid's box (the `t` and `t_end` of a fresh iterator; the same
+ * arithmetic), 0 when the iterator would have no segments. */
+int vbl_majorant_iter_clip(const vbl_majorant_grid* grid, const vbl_affine* world_to_index, vbl_vec3 origin,
+                           vbl_vec3 direction, double tmin, double tmax, double* t_enter, double* t_exit);
 /* Returns 1 and fills `segment`, or 0 when the ray has left the grid or passed tmax. */
 int vbl_majorant_iter_next(vbl_majorant_iter* iter, vbl_majorant_segment* segment);
 
