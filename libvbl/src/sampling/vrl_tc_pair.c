@@ -1,0 +1,124 @@
+/* Camera-transmittance x geometry sampling of a camera-ray / VRL pair, one-sample MIS with the
+ * product sampler (vrl_tc_pair.h). */
+#include "sampling/vrl_tc_pair.h"
+
+#include <stddef.h>
+
+#include "sampling/equiangular.h"
+
+int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera)
+{
+    m->valid = 0;
+    m->count = 0;
+    if (!p->valid || !camera || camera->count < 1) return 0;
+    /* Merge the camera steps into at most VBL_VRL_TC_MAX_PIECES groups of consecutive steps,
+     * each with its length-weighted mean Tc. */
+    const int n = camera->count;
+    const int groups = n < VBL_VRL_TC_MAX_PIECES ? n : VBL_VRL_TC_MAX_PIECES;
+    double beta, s, h; /* the camera segment from u0 against the VRL line (roles of eqs 10-13 swapped) */
+    vbl_vrl_line_projection(p->l_o, p->l_d, p->c_o, p->c_d, p->u0, &beta, &s, &h);
+    int k = 0;
+    double mass = 0.0;
+    m->cdf[0] = 0.0;
+    for (int gi = 0; gi < groups; ++gi) {
+        int a = (int)((long)gi * n / groups), b = (int)((long)(gi + 1) * n / groups);
+        double xa = vbl_clamp(camera->x[a], p->u0, p->u1), xb = vbl_clamp(camera->x[b], p->u0, p->u1);
+        if (!(xb > xa)) continue;
+        double ty = 0.0;
+        for (int i = a; i < b; ++i) {
+            double lo = vbl_clamp(camera->x[i], p->u0, p->u1), hi = vbl_clamp(camera->x[i + 1], p->u0, p->u1);
+            if (hi > lo) ty += camera->y[i] * (hi - lo);
+        }
+        double y = ty / (xb - xa);
+        if (k == 0) m->x[0] = xa; /* later groups start where the previous ended (contiguous steps) */
+        vbl_sinh_marginal_init(&m->piece[k], beta + s * (xa - p->u0), s, h, xb - xa);
+        m->y[k] = y > 0.0 && isfinite(y) && m->piece[k].valid ? y : 0.0;
+        mass += m->y[k] * m->piece[k].norm;
+        m->x[k + 1] = xb;
+        m->cdf[k + 1] = mass;
+        ++k;
+    }
+    m->count = k;
+    m->valid = k > 0 && mass > 0.0 && isfinite(mass);
+    return m->valid;
+}
+
+/* The piece holding u: x[k] <= u < x[k+1] (u == x[n] in the last). */
+static int tc_piece(const vbl_vrl_tc_marginal* m, double u)
+{
+    int lo = 0, hi = m->count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) >> 1;
+        if (m->x[mid] <= u) lo = mid;
+        else hi = mid - 1;
+    }
+    return lo;
+}
+
+double vbl_vrl_tc_marginal_pdf(const vbl_vrl_tc_marginal* m, double u)
+{
+    if (!m->valid || !(u >= m->x[0] && u <= m->x[m->count])) return 0.0;
+    int k = tc_piece(m, u);
+    if (!(m->y[k] > 0.0)) return 0.0;
+    /* y_k G_k / Z times the piece's normalised 1 / (G_k dist) */
+    return m->y[k] * m->piece[k].norm / m->cdf[m->count] * vbl_sinh_marginal_pdf_t(&m->piece[k], u - m->x[k]);
+}
+
+double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, double* pdf)
+{
+    if (!m->valid) {
+        if (pdf) *pdf = 0.0;
+        return m->count > 0 ? m->x[0] : 0.0;
+    }
+    const double total = m->cdf[m->count];
+    double target = vbl_clamp(xi, 0.0, 1.0) * total;
+    int k = 0;
+    while (k < m->count - 1 && (m->cdf[k + 1] <= target || !(m->y[k] > 0.0))) ++k;
+    while (!(m->y[k] > 0.0) && k > 0) --k; /* xi == 1 past trailing empty pieces */
+    double piece_mass = m->cdf[k + 1] - m->cdf[k];
+    double xr = piece_mass > 0.0 ? vbl_clamp((target - m->cdf[k]) / piece_mass, 0.0, 1.0) : 0.5;
+    double u = m->x[k] + vbl_sinh_marginal_sample_t(&m->piece[k], xr, NULL);
+    u = vbl_clamp(u, m->x[k], m->x[k + 1]);
+    if (pdf) *pdf = vbl_vrl_tc_marginal_pdf(m, u);
+    return u;
+}
+
+double vbl_vrl_tc_technique_pdf(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v)
+{
+    if (!p->valid || !m->valid) return 0.0;
+    double pu = vbl_vrl_tc_marginal_pdf(m, u);
+    if (!(pu > 0.0)) return 0.0;
+    vbl_vec3 xu = vbl_v3_madd(p->c_o, p->c_d, u);
+    return pu * vbl_equiangular_pdf(p->l_o, p->l_d, p->v0, p->v1, xu, v);
+}
+
+double vbl_vrl_tc_pair_density(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v)
+{
+    if (!m->valid) return vbl_vrl_pair_density(p, u, v);
+    const double c = VBL_VRL_TC_PAIR_SHARE;
+    return c * vbl_vrl_pair_density(p, u, v) + (1.0 - c) * vbl_vrl_tc_technique_pdf(p, m, u, v);
+}
+
+int vbl_vrl_tc_pair_draw(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double xi_choice, double xi1,
+                         double xi2, vbl_vrl_pair_sample* out)
+{
+    out->pdf = 0.0;
+    if (!p->valid) return 0;
+    if (!m->valid) return vbl_vrl_pair_draw(p, xi1, xi2, out) && out->pdf > 0.0;
+    if (xi_choice < VBL_VRL_TC_PAIR_SHARE) {
+        if (!vbl_vrl_pair_draw(p, xi1, xi2, out) || !(out->pdf > 0.0)) return 0;
+    } else {
+        double pu;
+        double u = vbl_vrl_tc_marginal_sample(m, xi1, &pu);
+        if (!(pu > 0.0) || u < p->u0 || u > p->u1) return 0;
+        vbl_vec3 xu = vbl_v3_madd(p->c_o, p->c_d, u);
+        double pv;
+        double v = vbl_equiangular_sample(p->l_o, p->l_d, p->v0, p->v1, xu, xi2, &pv);
+        if (!(pv > 0.0)) return 0;
+        out->u = u;
+        out->v = v;
+    }
+    /* both densities as vbl_vrl_tc_pair_density evaluates them at (u, v) */
+    out->pdf = vbl_vrl_tc_pair_density(p, m, out->u, out->v);
+    return out->pdf > 0.0;
+}

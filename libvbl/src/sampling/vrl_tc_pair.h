@@ -1,0 +1,67 @@
+/* Camera-transmittance x geometry sampling of a camera-ray / VRL pair (issue 13, item 3): a
+ * third (u, v) technique for eq (7) of Novak et al. 2012 (VRL), MIS-combined with the product
+ * sampler of sampling/vrl_pair.h.
+ *
+ * The technique draws the camera-ray point u first, from
+ *     p(u) ~ Tc(u) / dist(c(u), VRL line),
+ * a piecewise density: Tc is the camera ray's cached transmittance (a step function,
+ * volume/transmittance_cache.h, given as a vbl_step_pdf over [u0, u1]) and 1 / dist is the
+ * inverse-distance marginal of the 1 / w^2 term to the infinite VRL line (Novak et al. 2012
+ * (VRL), section 4.1, eqs 10-13, with the roles of the two segments swapped; each step is one
+ * sinh marginal, sampling/sinh_marginal.h). Then v given u by equiangular sampling along the VRL
+ * (Kulla and Fajardo 2012; density ~ 1 / w^2 about the camera point). The joint density so
+ * follows Tc(u) / w^2 (up to the finite VRL's angular extent), unlike the product sampler (blind
+ * to Tc) and the camera technique of sampling/vrl_camera_mis.h (u ~ Tc alone, blind to the
+ * near-crossing peak of 1 / w^2).
+ *
+ * Steps beyond VBL_VRL_TC_MAX_PIECES are merged (length-weighted mean of Tc): any positive
+ * density is unbiased, the merge only coarsens the shape. The one-sample MIS (Veach 1997,
+ * section 9.2.4, balance heuristic) picks the product sampler with probability
+ * VBL_VRL_TC_PAIR_SHARE; the pdf returned is the mixture at the drawn (u, v), so f / pdf is
+ * unbiased wherever either technique has support (the product sampler covers the whole pair). */
+#ifndef VBL_SAMPLING_VRL_TC_PAIR_H
+#define VBL_SAMPLING_VRL_TC_PAIR_H
+
+#include "sampling/sinh_marginal.h"
+#include "sampling/step_pdf.h"
+#include "sampling/vrl_pair.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VBL_VRL_TC_MAX_PIECES 32
+#define VBL_VRL_TC_PAIR_SHARE 0.5
+
+/* The u marginal p(u) ~ Tc(u) / dist(u) of one pair. */
+typedef struct vbl_vrl_tc_marginal {
+    int count;                                  /* pieces */
+    double x[VBL_VRL_TC_MAX_PIECES + 1];        /* breakpoints in u */
+    double cdf[VBL_VRL_TC_MAX_PIECES + 1];      /* unnormalised mass up to x[k] */
+    vbl_sinh_marginal piece[VBL_VRL_TC_MAX_PIECES]; /* 1 / dist over t = u - x[k] in [0, x[k+1] - x[k]] */
+    double y[VBL_VRL_TC_MAX_PIECES];            /* Tc of the piece */
+    int valid;
+} vbl_vrl_tc_marginal;
+
+/* Builds the marginal of the pair p (camera segment [p->u0, p->u1]) and the camera density
+ * `camera` (its step values are read as Tc; its domain should be [p->u0, p->u1]). Returns
+ * m->valid (0: no mass, e.g. Tc == 0 everywhere or a degenerate pair). */
+int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera);
+/* u in [x_0, x_n] and its density (*pdf may be NULL). */
+double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, double* pdf);
+double vbl_vrl_tc_marginal_pdf(const vbl_vrl_tc_marginal* m, double u);
+
+/* The technique alone: p(u) x equiangular(v | c(u)). */
+double vbl_vrl_tc_technique_pdf(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v);
+/* The MIS mixture c p_product + (1 - c) p_technique at (u, v) (what the draw returns as pdf). */
+double vbl_vrl_tc_pair_density(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v);
+/* xi_choice picks the technique, xi1 and xi2 drive it. m may be invalid (then the product
+ * sampler alone, pdf its density). Returns 0 (out->pdf 0) if the draw has no density. */
+int vbl_vrl_tc_pair_draw(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double xi_choice, double xi1,
+                         double xi2, vbl_vrl_pair_sample* out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
