@@ -23,12 +23,13 @@ typedef struct geom {
     double v0, v1, gc, gl;
 } geom;
 
-#define NGEOM 4
+#define NGEOM 5
 static const geom kGeoms[NGEOM] = {
     {"skew g 0.8", {1, 0.5, -1}, {0.3, 0.2, 1}, 0.0, 2.5, 0.8, 0.8},
     {"skew backwards g -0.5/0.8", {3, 0.3, 0.4}, {-1, 0.4, -0.2}, 0.0, 3.0, -0.5, 0.8},
     {"deep crossing isotropic", {2.4, -1, 0.05}, {0, 1, 0}, 0.0, 2.0, 0.0, 0.0},
     {"near-parallel g 0.3", {0.5, 0.3, 0.1}, {1, 0.01, 0.0}, 0.0, 1.5, 0.3, 0.3},
+    {"parallel (flat form) g 0.5", {0.6, 0.4, 0.2}, {1, 0, 0}, 0.0, 1.8, 0.5, 0.5},
 };
 
 /* Camera segment [0.2, 3] along +x. */

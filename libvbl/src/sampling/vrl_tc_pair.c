@@ -6,35 +6,59 @@
 
 #include "sampling/equiangular.h"
 
+#include "sampling/cauchy.h"
+
+#define TC_FLAT_SLOPE 1e-4
+
 int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera)
 {
     m->valid = 0;
     m->count = 0;
-    if (!p->valid || !camera || camera->count < 1) return 0;
+    if (!p->valid || !camera || camera->count < 1 || !(p->u1 > p->u0)) return 0;
+    /* The camera segment from u0 against the VRL line (the roles of eqs 10-13 swapped); h floored
+     * like the sinh marginal's (sampling/sinh_marginal.h). */
+    double beta, s, h;
+    vbl_vrl_line_projection(p->l_o, p->l_d, p->c_o, p->c_d, p->u0, &beta, &s, &h);
+    const double len = p->u1 - p->u0;
+    h = fmax(fabs(h), VBL_SAMPLING_H_FLOOR_REL * (len + hypot(h, beta)));
+    if (!(h > 0.0) || !isfinite(h) || !isfinite(beta)) return 0;
+    m->beta = beta;
+    m->s = s;
+    m->h = h;
+    m->u0 = p->u0;
+    m->flat = !(s * len > TC_FLAT_SLOPE * h);
     /* Merge the camera steps into at most VBL_VRL_TC_MAX_PIECES groups of consecutive steps,
-     * each with its length-weighted mean Tc. */
+     * each with its length-weighted mean Tc (contiguous: each group starts where one ended). */
     const int n = camera->count;
     const int groups = n < VBL_VRL_TC_MAX_PIECES ? n : VBL_VRL_TC_MAX_PIECES;
-    double beta, s, h; /* the camera segment from u0 against the VRL line (roles of eqs 10-13 swapped) */
-    vbl_vrl_line_projection(p->l_o, p->l_d, p->c_o, p->c_d, p->u0, &beta, &s, &h);
     int k = 0;
     double mass = 0.0;
     m->cdf[0] = 0.0;
     for (int gi = 0; gi < groups; ++gi) {
-        int a = (int)((long)gi * n / groups), b = (int)((long)(gi + 1) * n / groups);
-        double xa = vbl_clamp(camera->x[a], p->u0, p->u1), xb = vbl_clamp(camera->x[b], p->u0, p->u1);
+        int ia = (int)((long)gi * n / groups), ib = (int)((long)(gi + 1) * n / groups);
+        double xa = vbl_clamp(camera->x[ia], p->u0, p->u1), xb = vbl_clamp(camera->x[ib], p->u0, p->u1);
         if (!(xb > xa)) continue;
         double ty = 0.0;
-        for (int i = a; i < b; ++i) {
+        for (int i = ia; i < ib; ++i) {
             double lo = vbl_clamp(camera->x[i], p->u0, p->u1), hi = vbl_clamp(camera->x[i + 1], p->u0, p->u1);
             if (hi > lo) ty += camera->y[i] * (hi - lo);
         }
         double y = ty / (xb - xa);
-        if (k == 0) m->x[0] = xa; /* later groups start where the previous ended (contiguous steps) */
-        vbl_sinh_marginal_init(&m->piece[k], beta + s * (xa - p->u0), s, h, xb - xa);
-        m->y[k] = y > 0.0 && isfinite(y) && m->piece[k].valid ? y : 0.0;
-        mass += m->y[k] * m->piece[k].norm;
+        y = y > 0.0 && isfinite(y) ? y : 0.0;
+        if (k == 0) {
+            m->x[0] = xa;
+            m->a[0] = m->flat ? 0.0 : asinh((beta + s * (xa - p->u0)) / h);
+        }
         m->x[k + 1] = xb;
+        if (m->flat) {
+            double um = 0.5 * (xa + xb) - p->u0;
+            m->y[k] = y / hypot(h, beta + s * um);
+            mass += m->y[k] * (xb - xa);
+        } else {
+            m->a[k + 1] = asinh((beta + s * (xb - p->u0)) / h); /* eq 12 */
+            m->y[k] = y;
+            mass += y * fmax(0.0, m->a[k + 1] - m->a[k]);
+        }
         m->cdf[k + 1] = mass;
         ++k;
     }
@@ -59,9 +83,11 @@ double vbl_vrl_tc_marginal_pdf(const vbl_vrl_tc_marginal* m, double u)
 {
     if (!m->valid || !(u >= m->x[0] && u <= m->x[m->count])) return 0.0;
     int k = tc_piece(m, u);
-    if (!(m->y[k] > 0.0)) return 0.0;
-    /* y_k G_k / Z times the piece's normalised 1 / (G_k dist) */
-    return m->y[k] * m->piece[k].norm / m->cdf[m->count] * vbl_sinh_marginal_pdf_t(&m->piece[k], u - m->x[k]);
+    if (!(m->y[k] > 0.0) || !(m->cdf[k + 1] > m->cdf[k])) return 0.0;
+    const double total = m->cdf[m->count];
+    if (m->flat) return m->y[k] / total;
+    /* Tc_k / dist(u) over the integral sum_j Tc_j (A_j+1 - A_j) / s */
+    return m->s * m->y[k] / (total * hypot(m->h, m->beta + m->s * (u - m->u0)));
 }
 
 double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, double* pdf)
@@ -73,11 +99,17 @@ double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, doubl
     const double total = m->cdf[m->count];
     double target = vbl_clamp(xi, 0.0, 1.0) * total;
     int k = 0;
-    while (k < m->count - 1 && (m->cdf[k + 1] <= target || !(m->y[k] > 0.0))) ++k;
-    while (!(m->y[k] > 0.0) && k > 0) --k; /* xi == 1 past trailing empty pieces */
+    while (k < m->count - 1 && m->cdf[k + 1] <= target) ++k;
+    while (k > 0 && !(m->cdf[k + 1] > m->cdf[k])) --k; /* xi == 1 past trailing empty pieces */
     double piece_mass = m->cdf[k + 1] - m->cdf[k];
     double xr = piece_mass > 0.0 ? vbl_clamp((target - m->cdf[k]) / piece_mass, 0.0, 1.0) : 0.5;
-    double u = m->x[k] + vbl_sinh_marginal_sample_t(&m->piece[k], xr, NULL);
+    double u;
+    if (m->flat) {
+        u = m->x[k] + xr * (m->x[k + 1] - m->x[k]);
+    } else {
+        double a = m->a[k] + xr * (m->a[k + 1] - m->a[k]); /* eq 13 within the piece */
+        u = m->u0 + (m->h * sinh(a) - m->beta) / m->s;
+    }
     u = vbl_clamp(u, m->x[k], m->x[k + 1]);
     if (pdf) *pdf = vbl_vrl_tc_marginal_pdf(m, u);
     return u;

@@ -7,8 +7,8 @@
  * a piecewise density: Tc is the camera ray's cached transmittance (a step function,
  * volume/transmittance_cache.h, given as a vbl_step_pdf over [u0, u1]) and 1 / dist is the
  * inverse-distance marginal of the 1 / w^2 term to the infinite VRL line (Novak et al. 2012
- * (VRL), section 4.1, eqs 10-13, with the roles of the two segments swapped; each step is one
- * sinh marginal, sampling/sinh_marginal.h). Then v given u by equiangular sampling along the VRL
+ * (VRL), section 4.1, eqs 10-13, with the roles of the two segments swapped; closed form per
+ * step, below). Then v given u by equiangular sampling along the VRL
  * (Kulla and Fajardo 2012; density ~ 1 / w^2 about the camera point). The joint density so
  * follows Tc(u) / w^2 (up to the finite VRL's angular extent), unlike the product sampler (blind
  * to Tc) and the camera technique of sampling/vrl_camera_mis.h (u ~ Tc alone, blind to the
@@ -22,7 +22,6 @@
 #ifndef VBL_SAMPLING_VRL_TC_PAIR_H
 #define VBL_SAMPLING_VRL_TC_PAIR_H
 
-#include "sampling/sinh_marginal.h"
 #include "sampling/step_pdf.h"
 #include "sampling/vrl_pair.h"
 
@@ -30,16 +29,22 @@
 extern "C" {
 #endif
 
-#define VBL_VRL_TC_MAX_PIECES 32
+#define VBL_VRL_TC_MAX_PIECES 16
 #define VBL_VRL_TC_PAIR_SHARE 0.5
 
-/* The u marginal p(u) ~ Tc(u) / dist(u) of one pair. */
+/* The u marginal p(u) ~ Tc(u) / dist(u) of one pair. With dist(t) = sqrt(h^2 + (beta + s t)^2),
+ * t = u - u0 (eq 10's geometry), 1 / dist integrates over a piece to (A(t1) - A(t0)) / s,
+ * A(t) = asinh((beta + s t) / h) (eq 12): one asinh per breakpoint. Nearly parallel lines
+ * (s L / h < 1e-4 over the whole segment, where 1 / dist varies by < 1e-8) take 1 / dist at each
+ * piece's midpoint instead (a plain step density, uniform within pieces). */
 typedef struct vbl_vrl_tc_marginal {
-    int count;                                  /* pieces */
-    double x[VBL_VRL_TC_MAX_PIECES + 1];        /* breakpoints in u */
-    double cdf[VBL_VRL_TC_MAX_PIECES + 1];      /* unnormalised mass up to x[k] */
-    vbl_sinh_marginal piece[VBL_VRL_TC_MAX_PIECES]; /* 1 / dist over t = u - x[k] in [0, x[k+1] - x[k]] */
-    double y[VBL_VRL_TC_MAX_PIECES];            /* Tc of the piece */
+    int count;                             /* pieces */
+    int flat;                              /* 1: the near-parallel step form */
+    double beta, s, h, u0;                 /* dist(u) = sqrt(h^2 + (beta + s (u - u0))^2), h floored */
+    double x[VBL_VRL_TC_MAX_PIECES + 1];   /* breakpoints in u */
+    double a[VBL_VRL_TC_MAX_PIECES + 1];   /* A(x[k]) (flat: unused) */
+    double cdf[VBL_VRL_TC_MAX_PIECES + 1]; /* unnormalised mass up to x[k], in units of 1 / s (flat: 1) */
+    double y[VBL_VRL_TC_MAX_PIECES];       /* Tc of the piece (flat: Tc / dist(midpoint)) */
     int valid;
 } vbl_vrl_tc_marginal;
 
