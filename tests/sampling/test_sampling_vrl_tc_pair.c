@@ -1,7 +1,8 @@
 /* Camera-transmittance x geometry pair sampling (sampling/vrl_tc_pair.h): the u marginal's
  * normalisation and 1D chi-square, the 2D chi-square of the MIS draw over (u, v) against the
  * integral of its mixture density per cell, the draw's pdf equal to vbl_vrl_tc_pair_density,
- * and unbiasedness of f / pdf for an integrand with the camera transmittance as a step function
+ * the swapped pair's target equal to the pair's (v given u follows the same lobes), and
+ * unbiasedness of f / pdf for an integrand with the camera transmittance as a step function
  * (eq 7 of Novak et al. 2012 (VRL) with sigma = 1, T_c the steps, T(w) = e^(-w)). Two staircases:
  * 6 steps ending in Tc = 0 (the cache's roulette kill), and 80 noisy steps (more than
  * VBL_VRL_TC_MAX_PIECES: the merge). */
@@ -274,6 +275,24 @@ static void test_tc_pair_no_mass(void** state)
     assert_true(a.u == b.u && a.v == b.v && a.pdf == b.pdf);
 }
 
+/* The swapped pair (v given u) targets the same phase x geometry term: f_s f_s / w^2 is symmetric
+ * under the exchange of the segments (omega -> -omega, g values exchanged). */
+static void test_swapped_target(void** state)
+{
+    (void)state;
+    for (int i = 0; i < NGEOM; ++i) {
+        setup_t t;
+        setup(i, 0, &t);
+        vbl_rng rng = vbl_rng_make(5, (uint64_t)i, 9);
+        for (int n = 0; n < 200; ++n) {
+            double u = t.p.u0 + (t.p.u1 - t.p.u0) * vbl_rng_uniform(&rng);
+            double v = t.p.v0 + (t.p.v1 - t.p.v0) * vbl_rng_uniform(&rng);
+            double a = vbl_vrl_pair_phase_geometry(&t.p, u, v), b = vbl_vrl_pair_phase_geometry(&t.m.swapped, v, u);
+            assert_true(fabs(a - b) <= 1e-12 * a);
+        }
+    }
+}
+
 int main(int argc, char** argv)
 {
     if (argc > 1) cmocka_set_test_filter(argv[1]);
@@ -282,6 +301,7 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_tc_pair_chi2),
         cmocka_unit_test(test_tc_pair_unbiased),
         cmocka_unit_test(test_tc_pair_no_mass),
+        cmocka_unit_test(test_swapped_target),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

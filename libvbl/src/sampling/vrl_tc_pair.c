@@ -4,7 +4,6 @@
 
 #include <stddef.h>
 
-#include "sampling/equiangular.h"
 
 #include "sampling/cauchy.h"
 
@@ -27,6 +26,7 @@ int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, cons
     m->h = h;
     m->u0 = p->u0;
     m->flat = !(s * len > TC_FLAT_SLOPE * h);
+    vbl_vrl_pair_swap(p, &m->swapped);
     /* Merge the camera steps into at most VBL_VRL_TC_MAX_PIECES groups of consecutive steps,
      * each with its length-weighted mean Tc (contiguous: each group starts where one ended). */
     const int n = camera->count;
@@ -120,8 +120,7 @@ double vbl_vrl_tc_technique_pdf(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal
     if (!p->valid || !m->valid) return 0.0;
     double pu = vbl_vrl_tc_marginal_pdf(m, u);
     if (!(pu > 0.0)) return 0.0;
-    vbl_vec3 xu = vbl_v3_madd(p->c_o, p->c_d, u);
-    return pu * vbl_equiangular_pdf(p->l_o, p->l_d, p->v0, p->v1, xu, v);
+    return pu * vbl_vrl_pair_conditional_pdf(&m->swapped, u, v);
 }
 
 double vbl_vrl_tc_pair_density(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v)
@@ -143,9 +142,8 @@ int vbl_vrl_tc_pair_draw(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, do
         double pu;
         double u = vbl_vrl_tc_marginal_sample(m, xi1, &pu);
         if (!(pu > 0.0) || u < p->u0 || u > p->u1) return 0;
-        vbl_vec3 xu = vbl_v3_madd(p->c_o, p->c_d, u);
         double pv;
-        double v = vbl_equiangular_sample(p->l_o, p->l_d, p->v0, p->v1, xu, xi2, &pv);
+        double v = vbl_vrl_pair_draw_conditional(&m->swapped, u, xi2, &pv);
         if (!(pv > 0.0)) return 0;
         out->u = u;
         out->v = v;

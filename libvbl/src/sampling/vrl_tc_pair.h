@@ -8,11 +8,13 @@
  * volume/transmittance_cache.h, given as a vbl_step_pdf over [u0, u1]) and 1 / dist is the
  * inverse-distance marginal of the 1 / w^2 term to the infinite VRL line (Novak et al. 2012
  * (VRL), section 4.1, eqs 10-13, with the roles of the two segments swapped; closed form per
- * step, below). Then v given u by equiangular sampling along the VRL
- * (Kulla and Fajardo 2012; density ~ 1 / w^2 about the camera point). The joint density so
- * follows Tc(u) / w^2 (up to the finite VRL's angular extent), unlike the product sampler (blind
- * to Tc) and the camera technique of sampling/vrl_camera_mis.h (u ~ Tc alone, blind to the
- * near-crossing peak of 1 / w^2).
+ * step, below). Then v given u by the product sampler's second stage with the roles of the
+ * segments exchanged (vbl_vrl_pair_swap): the two HG lobes as a piecewise-linear density over the
+ * arc the VRL subtends at the camera point (Novak et al. 2012 (VRL), appendix A, eqs 16-20;
+ * equiangular, Kulla and Fajardo 2012, when both g are 0). The joint density so follows
+ * Tc(u) f_s f_s / w^2 (up to the finite VRL's angular extent in the marginal), unlike the product
+ * sampler (blind to Tc) and the camera technique of sampling/vrl_camera_mis.h (u ~ Tc alone,
+ * blind to the near-crossing peak of 1 / w^2, v by 1 / w^2 alone).
  *
  * Steps beyond VBL_VRL_TC_MAX_PIECES are merged (length-weighted mean of Tc): any positive
  * density is unbiased, the merge only coarsens the shape. The one-sample MIS (Veach 1997,
@@ -45,6 +47,7 @@ typedef struct vbl_vrl_tc_marginal {
     double a[VBL_VRL_TC_MAX_PIECES + 1];   /* A(x[k]) (flat: unused) */
     double cdf[VBL_VRL_TC_MAX_PIECES + 1]; /* unnormalised mass up to x[k], in units of 1 / s (flat: 1) */
     double y[VBL_VRL_TC_MAX_PIECES];       /* Tc of the piece (flat: Tc / dist(midpoint)) */
+    vbl_vrl_pair swapped;                  /* the pair with roles exchanged: v given u (vbl_vrl_pair_swap) */
     int valid;
 } vbl_vrl_tc_marginal;
 
@@ -56,7 +59,7 @@ int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, cons
 double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, double* pdf);
 double vbl_vrl_tc_marginal_pdf(const vbl_vrl_tc_marginal* m, double u);
 
-/* The technique alone: p(u) x equiangular(v | c(u)). */
+/* The technique alone: p(u) x p(v | u) (the swapped pair's conditional). */
 double vbl_vrl_tc_technique_pdf(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v);
 /* The MIS mixture c p_product + (1 - c) p_technique at (u, v) (what the draw returns as pdf). */
 double vbl_vrl_tc_pair_density(const vbl_vrl_pair* p, const vbl_vrl_tc_marginal* m, double u, double v);
