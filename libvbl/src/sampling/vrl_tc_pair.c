@@ -9,7 +9,7 @@
 
 #define TC_FLAT_SLOPE 1e-4
 
-int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera)
+int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera, int drops)
 {
     m->valid = 0;
     m->count = 0;
@@ -41,7 +41,8 @@ int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, cons
         double ty = 0.0;
         for (int i = ia; i < ib; ++i) {
             double lo = vbl_clamp(camera->x[i], p->u0, p->u1), hi = vbl_clamp(camera->x[i + 1], p->u0, p->u1);
-            if (hi > lo) ty += camera->y[i] * (hi - lo);
+            if (drops) ty += i + 1 < n ? fmax(0.0, camera->y[i] - camera->y[i + 1]) : 0.0; /* the drop at x[i+1] */
+            else if (hi > lo) ty += camera->y[i] * (hi - lo);
         }
         double y = ty / (xb - xa);
         y = y > 0.0 && isfinite(y) ? y : 0.0;

@@ -52,9 +52,14 @@ typedef struct vbl_vrl_tc_marginal {
 } vbl_vrl_tc_marginal;
 
 /* Builds the marginal of the pair p (camera segment [p->u0, p->u1]) and the camera density
- * `camera` (its step values are read as Tc; its domain should be [p->u0, p->u1]). Returns
- * m->valid (0: no mass, e.g. Tc == 0 everywhere or a degenerate pair). */
-int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera);
+ * `camera` (its step values are read as Tc; its domain should be [p->u0, p->u1]). drops = 0:
+ * p(u) ~ Tc(u) / dist(u). drops = 1: each step's weight is the drop of Tc at its end, spread over
+ * the step, instead of Tc times its length: for a ratio-tracking cache (tentative collisions at
+ * the majorant rate, each multiplying T by 1 - sigma_t / majorant) the expected drop per unit
+ * length is sigma_t(u) Tc(u), the free-flight density along the camera ray, so p(u) follows
+ * sigma_t Tc / dist (the last step, with no drop at its end, gets no mass; the product sampler
+ * covers it). Returns m->valid (0: no mass, e.g. Tc == 0 everywhere or a degenerate pair). */
+int vbl_vrl_tc_marginal_init(vbl_vrl_tc_marginal* m, const vbl_vrl_pair* p, const vbl_step_pdf* camera, int drops);
 /* u in [x_0, x_n] and its density (*pdf may be NULL). */
 double vbl_vrl_tc_marginal_sample(const vbl_vrl_tc_marginal* m, double xi, double* pdf);
 double vbl_vrl_tc_marginal_pdf(const vbl_vrl_tc_marginal* m, double u);

@@ -114,14 +114,15 @@ int vbl_vrl_camera_step_pdf(const vbl_transmittance_cache* cache, double u0, dou
 
 /* One (u, v) draw of the pair by the store's sampler (vrl.pair_sampler): the product sampler
  * (2 uniforms, as before the option), or with a camera density one-sample MIS with the camera
- * technique (camera_mis 1, vrl_camera_mis.h) or the Tc x 1/distance technique (2, vrl_tc_pair.h). */
+ * technique (camera_mis 1, vrl_camera_mis.h) or the Tc x 1/distance technique (2, vrl_tc_pair.h;
+ * 3: its free-flight form, sigma_t Tc x 1/distance from the cache's drops). */
 static int vbl_vrl_draw(const vbl_vl_store* s, const vbl_vrl_pair* pair, const vbl_step_pdf* camera, vbl_rng* rng,
                         vbl_vrl_pair_sample* ps)
 {
     double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
-    if (camera && s->camera_mis == VBL_VRL_PAIR_TRANSMITTANCE) {
+    if (camera && s->camera_mis >= VBL_VRL_PAIR_TRANSMITTANCE) {
         vbl_vrl_tc_marginal m;
-        vbl_vrl_tc_marginal_init(&m, pair, camera);
+        vbl_vrl_tc_marginal_init(&m, pair, camera, s->camera_mis == VBL_VRL_PAIR_FREE_FLIGHT);
         return vbl_vrl_tc_pair_draw(pair, &m, vbl_rng_uniform(rng), xi1, xi2, ps);
     }
     if (camera) return vbl_vrl_camera_mis_draw(pair, camera, vbl_rng_uniform(rng), xi1, xi2, ps);
