@@ -6,6 +6,7 @@
  *     REF=f    raw float RGB beauty reference (from WRITE=): rMAE of the running mean at 1, 2, 4, ...
  *              replicas with the CPU seconds so far ("rmae n cpu_s rmae"), vbl diff's definition
  *     WRITE=f  writes the replicas' mean beauty as raw floats
+ *     REF_VFV=f / WRITE_VFV=f  the same for the volume_from_volume layer ("rmae_vfv n cpu_s rmae")
  * Per-layer means and standard errors across replicas at the end. Replica k uses seed
  * SEED0 + 7919 k. bench/vrl_energy_boot.py turns the DUMP lines into energy against passes. */
 #include <math.h>
@@ -14,6 +15,46 @@
 #include <string.h>
 #include <time.h>
 #include "vbl/vbl.h"
+/* REF_VFV / WRITE_VFV: the running mean of volume_from_volume against a reference, as for beauty */
+static void vfv_track(const vbl_film* f, int r, int n, clock_t c0)
+{
+    static double* acc = NULL;
+    static float* ref = NULL;
+    static size_t np = 0;
+    static double refmean = 0.0;
+    int w = vbl_film_width(f), h = vbl_film_height(f), c = 0;
+    size_t N = (size_t)w * h * 3;
+    const float* p = vbl_film_layer(f, "volume_from_volume", &c);
+    if (!p) return;
+    if (!acc) {
+        acc = calloc(N, sizeof(double));
+        if (getenv("REF_VFV")) {
+            FILE* fr = fopen(getenv("REF_VFV"), "rb");
+            ref = malloc(sizeof(float) * N);
+            np = fr ? fread(ref, sizeof(float), N, fr) : 0;
+            if (fr) fclose(fr);
+            for (size_t i = 0; i < np; ++i) refmean += fabs(ref[i]);
+            refmean /= np ? (double)np : 1.0;
+        }
+    }
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        for (int ch = 0; ch < 3; ++ch) acc[i * 3 + ch] += p[i * c + ch];
+    if (ref && np == N && ((r + 1) & r) == 0) {
+        double e = 0;
+        for (size_t i = 0; i < N; ++i) e += fabs(acc[i] / (r + 1) - ref[i]) / (fabs(ref[i]) + 0.01 * refmean);
+        printf("rmae_vfv %d %.2f %.5f\n", r + 1, (double)(clock() - c0) / CLOCKS_PER_SEC, e / N);
+        fflush(stdout);
+    }
+    if (getenv("WRITE_VFV") && r == n - 1) {
+        FILE* fw = fopen(getenv("WRITE_VFV"), "wb");
+        for (size_t i = 0; fw && i < N; ++i) {
+            float v = (float)(acc[i] / n);
+            fwrite(&v, 4, 1, fw);
+        }
+        if (fw) fclose(fw);
+    }
+}
+
 int main(int argc, char** argv)
 {
     vbl_scene* scene = NULL;
@@ -51,6 +92,7 @@ int main(int argc, char** argv)
           if (ref && ((r + 1) & r) == 0) { double e = 0; for (size_t i = 0; i < N; ++i) e += fabs(acc[i] / (r + 1) - ref[i]) / (fabs(ref[i]) + 0.01 * refmean);
               printf("rmae %d %.2f %.5f\n", r + 1, (double)(clock() - c0) / CLOCKS_PER_SEC, e / N); fflush(stdout); }
           if (getenv("WRITE") && r == n - 1) { FILE* fw = fopen(getenv("WRITE"), "wb"); for (size_t i = 0; i < N; ++i) { float v = (float)(acc[i] / n); fwrite(&v, 4, 1, fw); } fclose(fw); } }
+        if (getenv("REF_VFV") || getenv("WRITE_VFV")) vfv_track(f, r, n, c0);
         vbl_film_release(f);
     }
     double cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;

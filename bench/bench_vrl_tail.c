@@ -1,7 +1,7 @@
 /* Issue 13, round 2: where the heavy tail of the per-VRL estimate comes from.
  *
  *   build/bench/bench_vrl_tail [--scenes cloud,dense] [--light-paths 150] [--res 32x24]
- *       [--samples 48] [--stride 5] [--threads 2] [--camera-mis 0|1] [--rr 0.1]
+ *       [--samples 48] [--stride 5] [--threads 2] [--camera-mis 0|1|2] [--rr 0.1]
  *
  * One fixed vrl store per scene (every VRL, the default settings). For every --stride-th pixel,
  * --samples camera samples (a fresh camera transmittance cache each, as the estimator does), and
@@ -23,7 +23,10 @@
  * the Russian-roulette threshold of the ratio-tracked camera cache and connections (default 0.1:
  * the estimator's default); --connect-scale K > 1 draws the connections' ratio-tracking tentative
  * collisions at K x the majorant (vbl_tracking_settings.majorant_scale: lower variance, K x the
- * lookups). The estimator's own cost per camera sample is printed with each scene. */
+ * lookups). The estimator's own cost per camera sample is printed with each scene. --camera-mis 2
+ * is vrl.pair_sampler = transmittance (sampling/vrl_tc_pair.h). Also the per-pair relative second
+ * moment of the full estimate: E[x^2] / E[x]^2 of one draw for one (pixel, VRL) pair, pooled
+ * (sum of E[x^2] over sum of E[x]^2) and the median over pairs with a non-zero mean. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -72,7 +75,7 @@ int main(int argc, char** argv)
             if (sscanf(argv[i + 1], "%dx%d", &width, &height) != 2) return 2;
         } else {
             fprintf(stderr, "usage: bench_vrl_tail [--scenes cloud,dense] [--light-paths N] [--res WxH] [--samples N] "
-                            "[--stride N] [--threads N] [--camera-mis 0|1] [--rr T] [--connect-scale K]\n");
+                            "[--stride N] [--threads N] [--camera-mis 0|1|2] [--rr T] [--connect-scale K]\n");
             return 2;
         }
     }
@@ -107,6 +110,9 @@ int main(int argc, char** argv)
         double* var = calloc((size_t)np * V_COUNT, sizeof(double));
         double* mean = calloc((size_t)np * V_COUNT, sizeof(double));
         double* peak = calloc((size_t)np, sizeof(double));
+        const size_t nv = ph->vrl_count;
+        double* pm1 = calloc((size_t)np * nv, sizeof(double)); /* per (pixel, VRL): sum of x, x^2 */
+        double* pm2 = calloc((size_t)np * nv, sizeof(double));
 #pragma omp parallel num_threads(threads)
         {
             vbl_thread_state ts;
@@ -130,6 +136,8 @@ int main(int argc, char** argv)
                             if (!(f.f > 0.0)) continue;
                             double base = f.f * f.tl / (f.w2 * f.pdf);
                             x[V_FULL] += base * f.tc * f.tw;
+                            pm1[(size_t)q * nv + j] += base * f.tc * f.tw;
+                            pm2[(size_t)q * nv + j] += (base * f.tc * f.tw) * (base * f.tc * f.tw);
                             x[V_TW] += base * f.tc * f.tw_march;
                             x[V_TC] += base * f.tc_march * f.tw;
                             x[V_T] += base * f.tc_march * f.tw_march;
@@ -195,6 +203,25 @@ int main(int argc, char** argv)
         if (lit)
             printf("\nlargest camera sample / pixel mean (full, %d lit pixels): median %.3g, 90%% %.3g, max %.3g (%d samples)\n",
                    lit, peak[lit / 2], peak[(int)(0.9 * lit)], peak[lit - 1], R);
+        {
+            double a2 = 0.0, a1 = 0.0;
+            size_t cnt = 0;
+            double* rel = malloc(sizeof(double) * ((size_t)np * nv + 1));
+            for (size_t k = 0; k < (size_t)np * nv; ++k) {
+                double m1 = pm1[k] / R, m2 = pm2[k] / R;
+                if (!(m1 > 0.0)) continue;
+                a2 += m2;
+                a1 += m1 * m1;
+                rel[cnt++] = m2 / (m1 * m1);
+            }
+            qsort(rel, cnt, sizeof(double), cmp_d);
+            if (cnt)
+                printf("per-pair relative second moment (full, %zu pairs): pooled %.3g, median %.3g, 90%% %.3g\n", cnt,
+                       a2 / a1, rel[cnt / 2], rel[(size_t)(0.9 * cnt)]);
+            free(rel);
+        }
+        free(pm1);
+        free(pm2);
         free(var);
         free(mean);
         free(peak);

@@ -66,6 +66,31 @@ static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
 }
 static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
 
+/* camera transmittance x 1/distance pair sampling (sampling/vrl_tc_pair.h, vrl.pair_sampler =
+ * transmittance), alone and with light-tree selection, and its free-flight form (free_flight) */
+static vbl_result tc_vrl_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
+    s.camera_mis = VBL_VRL_PAIR_TRANSMITTANCE;
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
+}
+static const vbl_estimator tc_vrl = {"vrl-tc", 1, tc_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static vbl_result tc_sel_vrl_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
+    s.camera_mis = VBL_VRL_PAIR_TRANSMITTANCE;
+    s.select = 4;
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
+}
+static vbl_result ff_vrl_begin(const vbl_render_context* ctx, void** store)
+{
+    vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
+    s.camera_mis = VBL_VRL_PAIR_FREE_FLIGHT;
+    return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
+}
+static const vbl_estimator ff_vrl = {"vrl-free-flight", 1, ff_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator tc_sel_vrl = {"vrl-tc-select", 1, tc_sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+
 typedef struct scene_case {
     vbl_scene* scene;
     vbl_volume* volumes[2];
@@ -171,6 +196,9 @@ static void test_two_media_vpl(void** state) { (void)state; agree(two_media_dist
 static void test_long_vrl(void** state) { (void)state; agree(sphere_spot(RES), &long_vrl, 2, 1, 200, 4, 32, 0, "sphere/spot long-vrl"); }
 static void test_sel_vrl(void** state) { (void)state; agree(sphere_spot(RES), &sel_vrl, 2, 1, 1600, 4, 32, 0, "sphere/spot vrl-select"); }
 static void test_mis_vrl(void** state) { (void)state; agree(sphere_spot(RES), &mis_vrl, 2, 1, 400, 4, 32, 0, "sphere/spot vrl-camera-mis"); }
+static void test_tc_vrl(void** state) { (void)state; agree(sphere_spot(RES), &tc_vrl, 2, 1, 400, 4, 32, 0, "sphere/spot vrl-tc"); }
+static void test_tc_ff_vrl(void** state) { (void)state; agree(box_point(RES), &ff_vrl, 2, 1, 400, 4, 32, 0, "box/point vrl-free-flight"); }
+static void test_tc_sel_vrl(void** state) { (void)state; agree(two_media_distant(RES), &tc_sel_vrl, 2, 1, 1600, 4, 32, 0, "two media/distant vrl-tc-select"); }
 static void test_rr_vrl(void** state) { (void)state; agree(box_point(RES), &rr_vrl, 2, 1, 400, 4, 32, 0, "box/point rr-vrl"); }
 
 int main(int argc, char** argv)
@@ -181,7 +209,8 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_sphere_spot_vrl), cmocka_unit_test(test_sphere_spot_vpl),
         cmocka_unit_test(test_two_media_vrl),   cmocka_unit_test(test_two_media_vpl),
         cmocka_unit_test(test_long_vrl),        cmocka_unit_test(test_rr_vrl), cmocka_unit_test(test_sel_vrl),
-        cmocka_unit_test(test_mis_vrl),
+        cmocka_unit_test(test_mis_vrl),         cmocka_unit_test(test_tc_vrl), cmocka_unit_test(test_tc_sel_vrl),
+        cmocka_unit_test(test_tc_ff_vrl),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,6 @@
 /* The estimator settings of vbl_render_options reach vrl and vpl through the render context:
- * with the same seed, changing vrl_samples / vrl_prune_radius / vrl_long changes the
+ * with the same seed, changing vrl_samples / vrl_prune_radius / vrl_long / vrl_connect /
+ * vrl.pair_sampler (each non-default sampler) changes the
  * volume_from_volume layer, vpl_clamp_distance darkens it pixel by pixel (it only lowers
  * 1/w^2 and draws the same random numbers), and pruned vrl (options.vrl.prune_radius > 0, the
  * scene-file route) still agrees with pt (block z-test as in test_transport_agreement; run with
@@ -73,6 +74,11 @@ static void test_options_change_estimators(void** state)
     v = o;
     v.vrl.connect = 1;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
+    for (int ps = VBL_VRL_PAIR_CAMERA; ps <= VBL_VRL_PAIR_FREE_FLIGHT; ++ps) {
+        v = o;
+        v.vrl.pair_sampler = (vbl_vrl_pair_sampler)ps;
+        assert_true(from_volume_mean(scene, &v, NULL) != base);
+    }
 
     /* vpl clamping: every pixel darker or equal, the image clearly darker */
     static float a[8 * 8 * 3], b[8 * 8 * 3];

@@ -78,6 +78,14 @@ typedef enum vbl_vrl_connect {
     VBL_VRL_CONNECT_MARCH = 1  /* ray marching (biased) */
 } vbl_vrl_connect;
 
+/* vrl's (u, v) sampler of a VRL / camera-ray pair (render.vrl.pair_sampler). */
+typedef enum vbl_vrl_pair_sampler {
+    VBL_VRL_PAIR_PRODUCT = 0,      /* the product sampler (Novak et al. 2012 (VRL), section 4) */
+    VBL_VRL_PAIR_CAMERA = 1,       /* MIS with u ~ Tc(u), v | u equiangular (sampling/vrl_camera_mis.h) */
+    VBL_VRL_PAIR_TRANSMITTANCE = 2, /* MIS with u ~ Tc(u) / dist(u), v | u by the lobes (vrl_tc_pair.h) */
+    VBL_VRL_PAIR_FREE_FLIGHT = 3    /* the same with u ~ sigma_t(u) Tc(u) / dist(u) (the cache's drops) */
+} vbl_vrl_pair_sampler;
+
 /* blue_noise: virtual lights per pass when render.vsl_lights is 0. */
 #define VBL_VSL_LIGHTS_DEFAULT 1024
 /* light_paths = 0: the method's default (vbl_render_options_light_paths). */
@@ -263,7 +271,12 @@ typedef enum vbl_render_option_effect {
     X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,            \
       "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)") \
     X(vrl., vrl_light_guide, light_guide, int, INT, "vrl.light_guide", "--vrl-light-guide", 0, 0, 2, 0, NULL,    \
-      HASH, "vrl, vbl: light paths split / rouletted by camera importance: 0 off, 1 bounded, 2 window (unbiased)")
+      HASH, "vrl, vbl: light paths split / rouletted by camera importance: 0 off, 1 bounded, 2 window (unbiased)") \
+    X(vrl., vrl_pair_sampler, pair_sampler, vbl_vrl_pair_sampler, ENUM, "vrl.pair_sampler", "--vrl-pair-sampler", \
+      VBL_VRL_PAIR_PRODUCT, 0, 3, 0, "product|camera|transmittance|free_flight", HASH,                         \
+      "vrl: (u, v) of a VRL / camera-ray pair by the product sampler, or MIS with u from the camera "          \
+      "transmittance (camera), Tc x 1/distance (transmittance) or sigma_t Tc x 1/distance (free_flight) "      \
+      "(unbiased)")
 
 /* vbl (virtual beam lights): options.beam_lights */
 #define VBL_RENDER_OPTIONS_BEAM_LIGHTS(X, F)                                                                 \

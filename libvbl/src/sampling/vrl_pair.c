@@ -158,6 +158,27 @@ double vbl_vrl_pair_conditional_pdf(const vbl_vrl_pair* p, double v, double u)
     return vbl_pwl_pdf(&pwl, vbl_clamp(phi, a.phi0, a.phi1)) * a.d / (a.d * a.d + du * du);
 }
 
+double vbl_vrl_pair_draw_conditional(const vbl_vrl_pair* p, double v, double xi, double* pdf)
+{
+    double u = p->u0, pu = 0.0;
+    if (p->isotropic) {
+        vbl_vec3 x = vbl_v3_madd(p->l_o, p->l_d, v);
+        u = vbl_equiangular_sample(p->c_o, p->c_d, p->u0, p->u1, x, xi, &pu); /* eq 14 */
+    } else {
+        arc a;
+        vbl_pwl pwl;
+        if (arc_make(p, v, &a) && arc_pwl(p, &a, &pwl)) {
+            double phi = vbl_pwl_sample(&pwl, xi, NULL);
+            u = vbl_clamp(a.up + a.d * tan(phi), p->u0, p->u1);
+            double du = u - a.up;
+            double phi_u = vbl_clamp(atan2(du, a.d), a.phi0, a.phi1);
+            pu = vbl_pwl_pdf(&pwl, phi_u) * a.d / (a.d * a.d + du * du); /* Jacobian dphi/du = D / dist^2 */
+        }
+    }
+    *pdf = pu;
+    return u;
+}
+
 int vbl_vrl_pair_draw(const vbl_vrl_pair* p, double xi1, double xi2, vbl_vrl_pair_sample* out)
 {
     out->u = p->u0;
@@ -169,25 +190,29 @@ int vbl_vrl_pair_draw(const vbl_vrl_pair* p, double xi1, double xi2, vbl_vrl_pai
     /* Densities are evaluated at the returned (u, v) exactly as vbl_vrl_pair_density does. */
     double pv = vbl_vrl_pair_marginal_pdf(p, v);
     if (!(pv > 0.0)) return 0;
-    double u, pu = 0.0;
-    if (p->isotropic) {
-        vbl_vec3 x = vbl_v3_madd(p->l_o, p->l_d, v);
-        u = vbl_equiangular_sample(p->c_o, p->c_d, p->u0, p->u1, x, xi2, &pu); /* eq 14 */
-    } else {
-        arc a;
-        vbl_pwl pwl;
-        if (!arc_make(p, v, &a) || !arc_pwl(p, &a, &pwl)) return 0;
-        double phi = vbl_pwl_sample(&pwl, xi2, NULL);
-        u = vbl_clamp(a.up + a.d * tan(phi), p->u0, p->u1);
-        double du = u - a.up;
-        double phi_u = vbl_clamp(atan2(du, a.d), a.phi0, a.phi1);
-        pu = vbl_pwl_pdf(&pwl, phi_u) * a.d / (a.d * a.d + du * du); /* Jacobian dphi/du = D / dist^2 */
-    }
+    double pu;
+    double u = vbl_vrl_pair_draw_conditional(p, v, xi2, &pu);
     if (!(pu > 0.0)) return 0;
     out->u = u;
     out->v = v;
     out->pdf = pv * pu;
     return 1;
+}
+
+void vbl_vrl_pair_swap(const vbl_vrl_pair* p, vbl_vrl_pair* out)
+{
+    *out = *p;
+    out->c_o = p->l_o;
+    out->c_d = p->l_d;
+    out->l_o = p->c_o;
+    out->l_d = p->c_d;
+    out->u0 = p->v0;
+    out->u1 = p->v1;
+    out->v0 = p->u0;
+    out->v1 = p->u1;
+    out->g_camera = p->g_light;
+    out->g_light = p->g_camera;
+    vbl_sinh_marginal_init(&out->marginal, 0.0, 0.0, 0.0, 0.0); /* no marginal: conditionals only */
 }
 
 double vbl_vrl_pair_density(const vbl_vrl_pair* p, double u, double v)

@@ -59,6 +59,16 @@ double vbl_vrl_pair_density(const vbl_vrl_pair* p, double u, double v);
 double vbl_vrl_pair_marginal_pdf(const vbl_vrl_pair* p, double v);
 double vbl_vrl_pair_conditional_pdf(const vbl_vrl_pair* p, double v, double u);
 
+/* Stage 2 alone: u given v (the VRL point) and its density, as inside vbl_vrl_pair_draw (*pdf 0
+ * if there is no density). */
+double vbl_vrl_pair_draw_conditional(const vbl_vrl_pair* p, double v, double xi, double* pdf);
+/* The pair with the roles of the segments exchanged (the VRL as "camera" segment, g values
+ * exchanged), for the conditional of v given u: vbl_vrl_pair_conditional_pdf(swapped, u, v) and
+ * vbl_vrl_pair_draw_conditional(swapped, u, ...) follow the same two HG lobes, because
+ * f_s(theta_u) f_s(theta_v) is symmetric under the exchange (omega -> -omega). Its marginal is
+ * invalid: use it for the conditionals only. */
+void vbl_vrl_pair_swap(const vbl_vrl_pair* p, vbl_vrl_pair* out);
+
 /* One-call forms. Return 0 / pdf 0 if the pair has no support (e.g. a zero-length segment). */
 int vbl_vrl_pair_sample_draw(const vbl_segment* camera, const vbl_segment* light, double g_camera, double g_light,
                              double xi1, double xi2, vbl_vrl_pair_sample* out);

@@ -7,6 +7,7 @@
 #include "transport/common/radius_schedule.h"
 #include "sampling/vrl_camera_mis.h"
 #include "sampling/vrl_pair.h"
+#include "sampling/vrl_tc_pair.h"
 #include "media/medium.h"
 #include "transport/common/light_emission.h"
 #include "transport/virtual_lights/virtual_lights_kernel.h"
@@ -78,6 +79,7 @@ void vbl_vrl_settings_from_options(const vbl_render_options* o, vbl_vrl_settings
     out->rr_radius = o->vrl.prune_radius;
     if (o->vrl.prune_min_probability > 0.0) out->rr_min_probability = o->vrl.prune_min_probability;
     out->select = o->vrl.select;
+    out->camera_mis = (int)o->vrl.pair_sampler;
 }
 
 static vbl_result vbl_vrl_pass_begin(const vbl_render_context* ctx, void** store)
@@ -110,6 +112,23 @@ int vbl_vrl_camera_step_pdf(const vbl_transmittance_cache* cache, double u0, dou
     return vbl_step_pdf_init(out, x, y, n, 0.0);
 }
 
+/* One (u, v) draw of the pair by the store's sampler (vrl.pair_sampler): the product sampler
+ * (2 uniforms, as before the option), or with a camera density one-sample MIS with the camera
+ * technique (camera_mis 1, vrl_camera_mis.h) or the Tc x 1/distance technique (2, vrl_tc_pair.h;
+ * 3: its free-flight form, sigma_t Tc x 1/distance from the cache's drops). */
+static int vbl_vrl_draw(const vbl_vl_store* s, const vbl_vrl_pair* pair, const vbl_step_pdf* camera, vbl_rng* rng,
+                        vbl_vrl_pair_sample* ps)
+{
+    double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
+    if (camera && s->camera_mis >= VBL_VRL_PAIR_TRANSMITTANCE) {
+        vbl_vrl_tc_marginal m;
+        vbl_vrl_tc_marginal_init(&m, pair, camera, s->camera_mis == VBL_VRL_PAIR_FREE_FLIGHT);
+        return vbl_vrl_tc_pair_draw(pair, &m, vbl_rng_uniform(rng), xi1, xi2, ps);
+    }
+    if (camera) return vbl_vrl_camera_mis_draw(pair, camera, vbl_rng_uniform(rng), xi1, xi2, ps);
+    return vbl_vrl_pair_draw(pair, xi1, xi2, ps) && ps->pdf > 0.0;
+}
+
 /* Adds one VRL's estimate of eq 7 over its part v in [v0, v1] (samples draws of the pair sampler) times `weight` to *g->acc. */
 static void vbl_vrl_estimate(const vbl_vl_gather* g, const vbl_vrl* l, double v0, double v1, double weight)
 {
@@ -128,13 +147,8 @@ static void vbl_vrl_estimate(const vbl_vl_gather* g, const vbl_vrl* l, double v0
     const vbl_segment light = vbl_segment_make(l->origin, l->direction, v0, v1);
     if (!vbl_vrl_pair_init(&pair, &g->cam->ray, &light, s->g_camera, l->g)) return;
     for (int k = 0; k < S; ++k) {
-        double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
         vbl_vrl_pair_sample ps;
-        if (camera) {
-            if (!vbl_vrl_camera_mis_draw(&pair, camera, vbl_rng_uniform(rng), xi1, xi2, &ps)) continue;
-        } else if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) {
-            continue;
-        }
+        if (!vbl_vrl_draw(s, &pair, camera, rng, &ps)) continue;
         vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
         vbl_vec3 to = vbl_v3_sub(xu, xv);
         double w2 = vbl_v3_dot(to, to);
@@ -212,14 +226,10 @@ int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl
     memset(out, 0, sizeof *out);
     const vbl_segment light = vbl_segment_make(l->origin, l->direction, 0.0, l->length);
     if (!vbl_vrl_pair_init(&pair, &cam->ray, &light, s->g_camera, l->g)) return 0;
-    double xi1 = vbl_rng_uniform(rng), xi2 = vbl_rng_uniform(rng);
     vbl_vrl_pair_sample ps;
     vbl_step_pdf camera;
-    if (s->camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera)) {
-        if (!vbl_vrl_camera_mis_draw(&pair, &camera, vbl_rng_uniform(rng), xi1, xi2, &ps)) return 0;
-    } else if (!vbl_vrl_pair_draw(&pair, xi1, xi2, &ps) || !(ps.pdf > 0.0)) {
-        return 0;
-    }
+    const int has_camera = s->camera_mis && vbl_vrl_camera_step_pdf(cache, u0, u1, &camera);
+    if (!vbl_vrl_draw(s, &pair, has_camera ? &camera : NULL, rng, &ps)) return 0;
     vbl_vec3 xu = vbl_v3_madd(o, d, ps.u), xv = vbl_v3_madd(l->origin, l->direction, ps.v);
     vbl_vec3 to = vbl_v3_sub(xu, xv);
     double w2 = vbl_v3_dot(to, to);

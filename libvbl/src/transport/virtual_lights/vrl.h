@@ -60,8 +60,10 @@ typedef struct vbl_vrl_settings {
     double surface_alpha;      /* eq 11 alpha of the surface VSL radius, (0, 1]; 0: 0.7 */
     int select;                /* > 0: K VRLs drawn per camera sample from the light tree
                                   (vrl_tree.h, unbiased; rr_radius is then unused); 0: every VRL */
-    int camera_mis;            /* 1: (u, v) by MIS of the product sampler and a camera-transmittance
-                                  sampler (sampling/vrl_camera_mis.h); 0: product sampler only */
+    int camera_mis;            /* vbl_vrl_pair_sampler (vrl.pair_sampler): 1: (u, v) by MIS of the
+                                  product sampler and a camera-transmittance sampler
+                                  (sampling/vrl_camera_mis.h); 2: MIS with u ~ Tc(u) / dist(u)
+                                  (sampling/vrl_tc_pair.h); 0: product sampler only */
     double transmittance_rr;   /* Russian-roulette threshold of the ratio-tracked camera cache and
                                   connections, (0, 1]; 0.1 = the renderer's default (and this one's) */
 } vbl_vrl_settings;
