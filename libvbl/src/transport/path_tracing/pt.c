@@ -156,7 +156,8 @@ typedef struct vbl_pt_segment {
 /* Next-event estimation at the medium vertex at distance t on segment `seg`. */
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
-                                     const vbl_pt_dims* dims, vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+                                     const vbl_pt_dims* dims, int last, vbl_vec3 beta, vbl_rng* rng,
+                                     vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -172,13 +173,13 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
+    /* at the path's last vertex no phase direction is traced: that strategy's density is 0 */
+    const double phase_pdf = last ? 0.0 : vbl_medium_phase_pdf(mp, cos_theta);
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
         const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
-        w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, vbl_medium_phase_pdf(mp, cos_theta),
-                                           VBL_PT_EQ_NEE);
+        w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, phase_pdf, VBL_PT_EQ_NEE);
     } else if (!ls.is_delta)
-        w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
-                           vbl_medium_phase_pdf(mp, cos_theta));
+        w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf, phase_pdf);
     else /* against the segment's equiangular sample (pt_equiangular.h) */
         w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t);
     /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
@@ -191,8 +192,8 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
 
 /* Next-event estimation at a surface hit (wo towards the previous vertex). */
 static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
-                                      vbl_vec3 wo, const vbl_pt_path* path, const vbl_pt_dims* dims, vbl_vec3 beta,
-                                      vbl_rng* rng, vbl_sample_value* out)
+                                      vbl_vec3 wo, const vbl_pt_path* path, const vbl_pt_dims* dims, int last,
+                                      vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_material* m = &scene->materials[hit->material];
@@ -209,9 +210,9 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     double T = vbl_ctx_transmittance(ctx, ts, origin, ls.wi, ls.distance, rng);
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
-    if (!ls.is_delta)
+    if (!ls.is_delta) /* at the path's last vertex no BRDF direction is traced: its density is 0 */
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
-                           vbl_material_pdf(m, hit->shading_normal, wo, ls.wi));
+                           last ? 0.0 : vbl_material_pdf(m, hit->shading_normal, wo, ls.wi));
     double s = T * w * cos_i / (select_pdf * ls.pdf);
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
     L->x += beta.x * f.x * ls.li.x * s;
@@ -315,7 +316,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (equiangular && (max_bounces < 0 || path.events < max_bounces) && vbl_ctx_wants(ctx, vbl_pt_class(&next))) {
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
-            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, u_pick, u_t, rng,
+            const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, u_pick, u_t, !next_last, rng,
                                    &out->L[vbl_pt_class(&next)]);
         }
         if (!collided && !on_surface) break; /* escaped */
@@ -333,8 +335,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_medium_point mp; /* what scatters at x (media/medium.h) */
             vbl_medium_point_from_components(scene, components, &mp);
             vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, beta, rng, out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
@@ -351,8 +353,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             origin = vertex = x;
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
-            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, beta, rng, out);
             int last = max_bounces >= 0 && path.events >= max_bounces;
+            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, last, beta, rng, out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_surface(ctx, ts, &hit, wo, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;

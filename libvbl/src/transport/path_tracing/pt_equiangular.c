@@ -117,7 +117,7 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            vbl_rng* rng, vbl_vec3* L)
+                            int phase_traced, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
@@ -162,7 +162,8 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     double q, w;
     if (quad) {
         double nee, phase, eq;
-        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf, vbl_medium_phase_pdf(&mp, cos_theta), &nee,
+        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf,
+                                 phase_traced ? vbl_medium_phase_pdf(&mp, cos_theta) : 0.0, &nee,
                                  &phase, &eq);
         q = eq;
         w = vbl_pt_eq_weight3(ctx->options.mis, eq, nee, phase);

@@ -55,10 +55,11 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
 /* The equiangular sample of one segment: adds w_ea K L T T_l / (p_ea / N_eq) * beta into *L.
  * t_surface: where the segment ends (INFINITY: escapes). u_pick picks the light, u_t the distance
  * (the caller draws both, whatever follows, so later dimensions keep their place); the
- * transmittance estimates draw from rng. */
+ * transmittance estimates draw from rng. phase_traced = 0 where the sampled vertex is the path's
+ * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            vbl_rng* rng, vbl_vec3* L);
+                            int phase_traced, vbl_rng* rng, vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light
