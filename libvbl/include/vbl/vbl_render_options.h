@@ -70,8 +70,8 @@ typedef enum vbl_pt_shadow_transmittance {
     VBL_PT_SHADOW_RENDER = 1,       /* the render's `transmittance` estimator */
     VBL_PT_SHADOW_RESIDUAL_MID = 2, /* residual ratio tracking, control = the block mid-bound */
     VBL_PT_SHADOW_UNBIASED_MARCH = 3, /* unbiased ray marching (Kettunen et al. 2021) */
-    /* the same, its cost following the need: no pilot in thin blocks, block-wide strata, a lower
-     * march density after the first scattering event (docs/readme/sampling.md) */
+    /* the same, its cost following the need: a march's points stratified over the whole block, a
+     * lower march density after the first scattering event (docs/readme/sampling.md) */
     VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE = 4
 } vbl_pt_shadow_transmittance;
 
@@ -220,8 +220,8 @@ typedef enum vbl_render_option_effect {
       "pt: NEE shadow rays' transmittance: the `transmittance` estimator (render), residual ratio tracking "  \
       "with the majorant block's mid-bound as control (residual-mid), or unbiased ray marching "             \
       "(unbiased-march: stratified marched optical depths in a power series, may be negative; "              \
-      "unbiased-march-adaptive: the same with no pilot in thin blocks, block-wide strata and half the "     \
-      "march density after the first scattering event; default = unbiased-march)")                            \
+      "unbiased-march-adaptive: the same with block-wide strata and a quarter of the march density "      \
+      "after the first scattering event; default = unbiased-march)")                                        \
     X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
       "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
       "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \

@@ -31,6 +31,11 @@
  *    m = rate r len points: m >= 1: ceil(m) (at most max_points) jittered strata; m < 1: one
  *    uniform point with probability m, weight 1 / m. Both unbiased.
  *
+ * The adaptive march (params.block_strata, pt.shadow_transmittance = unbiased-march-adaptive)
+ * places each march's points over the whole block instead of per piece (vbl_um_march_strata), and
+ * pt gives it a lower rate at deep vertices (vbl_unbiased_march_adaptive); params.pilot_min_bound
+ * replaces the pilot by the mid-bound control in thin blocks (off by default: measured worse).
+ *
  * The running product W of finished factors plays Russian roulette once |W| < 1e-4 (survives
  * with |W| / 1e-4, then |W| = 1e-4; ratio tracking's rule on its weight), so lookups stop where
  * T is small even when the minorants are 0.
