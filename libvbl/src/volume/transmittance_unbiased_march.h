@@ -46,7 +46,7 @@ vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale);
  * saved lookups but raised the smoky room's volume_from_volume error 1.2x: the mid-bound is a
  * poor control where the majorant bounds are loose). */
 #define VBL_UNBIASED_MARCH_PILOT_MIN 0.0
-#define VBL_UNBIASED_MARCH_DEEP_RATE 1.0
+#define VBL_UNBIASED_MARCH_DEEP_RATE 2.0
 vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep);
 
 /* One estimate of T(t0, t1) along origin + t direction; `direction` must be unit

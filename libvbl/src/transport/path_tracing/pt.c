@@ -261,12 +261,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * (volume/transmittance.h) or unbiased ray marching (transmittance_unbiased_march.h); free
      * flights are unaffected */
     vbl_render_context shadow_ctx;
-    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH ||
-        ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_DEFAULT) { /* the default (docs/readme/sampling.md) */
+    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH) {
         shadow_ctx = *ctx;
         shadow_ctx.tracking.unbiased_march = 1;
         ctx = &shadow_ctx;
-    } else if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE) {
+    } else if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE ||
+               ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_DEFAULT) { /* the default (docs/readme/sampling.md) */
         shadow_ctx = *ctx;
         shadow_ctx.tracking.unbiased_march = 2;
         ctx = &shadow_ctx;
