@@ -8,7 +8,7 @@
  *
  * Configurations: eq_off / eq_on (pt.equiangular), eq_off_sobol / eq_on_sobol (the same with
  * pt.sampler = sobol), eq_on_balance, tr_* (shadow transmittance estimators and majorant scales;
- * tr_mid*: pt.shadow_transmittance = residual-mid; tr_um*: unbiased-march; every other row sets it
+ * tr_mid*: pt.shadow_transmittance = residual-mid; tr_um*: unbiased-march; tr_uma: unbiased-march-adaptive; every other row sets it
  * to render), eq_quads /
  * eq_quads_mid (pt.equiangular_quads on), rr_plain / rr_guided / rr_guided8 (pt.guided_rr off / on,
  * residual-mid shadows as when they were measured).
@@ -68,6 +68,8 @@ static const bench_config bench_configs[] = {
     {"tr_um", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
     {"tr_um_k2", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 2.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
     {"tr_um_k4", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 4.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH, 0},
+    /* session 6: the adaptive march (pt.shadow_transmittance = unbiased-march-adaptive) */
+    {"tr_uma", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE, 0},
     /* issue 14 item 3: the defaults with throughput roulette (rr_plain) and pt.guided_rr (rr_guided*,
      * the name's suffix picks pt.guide_cells / pt.guide_paths: rr_guided = 16/8, rr_guided8 = 8/8) */
     {"rr_plain", 1, VBL_MIS_POWER, VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, VBL_PT_SAMPLER_INDEPENDENT, VBL_PT_SHADOW_RESIDUAL_MID, 1},

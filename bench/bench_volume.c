@@ -215,7 +215,11 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
         g_majorant_scale = 1.0;
         /* issue 14 item 4: unbiased ray marching (Kettunen et al. 2021) at several march densities
          * (points per unit residual optical depth; the pilot at the same density or half) */
-        const double um_rates[][3] = {{1, 1, 1}, {2, 2, 1}, {4, 4, 1}, {8, 8, 1}, {16, 16, 1}, {4, 2, 1}, {4, 4, 0.5}};
+        /* session 6: {rate, pilot rate, theta, pilot_min_bound, block_strata}: the adaptive march */
+        const double um_rates[][5] = {{1, 1, 1, 0, 0},   {2, 2, 1, 0, 0},   {4, 4, 1, 0, 0},     {8, 8, 1, 0, 0},
+                                      {16, 16, 1, 0, 0}, {4, 2, 1, 0, 0},   {4, 4, 0.5, 0, 0},   {4, 4, 1, 0, 1},
+                                      {4, 4, 1, 0.5, 1}, {4, 4, 1, 1.01, 1}, {2, 2, 1, 0.5, 1}, {1, 1, 1, 0.5, 1},
+                                      {8, 8, 1, 0.5, 1}, {4, 4, 1, 0.25, 1}, {6, 6, 1, 0.5, 1}};
         for (size_t e = 0; e < sizeof um_rates / sizeof um_rates[0]; ++e) {
             double var = 0, mt = 0, lq = 0, s1 = 1e300;
             g_unbiased = 1;
@@ -223,14 +227,17 @@ static int run_gap(vbl_volume* v, const vbl_volume_info* info, double scale)
             g_um.rate = um_rates[e][0];
             g_um.pilot_rate = um_rates[e][1];
             g_um.theta = um_rates[e][2];
+            g_um.pilot_min_bound = um_rates[e][3];
+            g_um.block_strata = (int)um_rates[e][4];
             for (int rep = 0; rep < 3; ++rep) {
                 double s = run_estimator(&ext, rays, nrays, 16, VBL_TRANSMITTANCE_RATIO_TRACKING, 0, 1, &var, &mt, &lq);
                 if (s < s1) s1 = s;
             }
             g_unbiased = 0;
             double q = (double)nrays * 16 / s1, limit = raw / fmax(lq, 1e-9);
-            printf("| %s (scale %.3g) | unbiased-march rate %g pilot %g theta %g | %.4f | %.3g | %.2f | %.4g | %.4g | %.2f | %.3g |\n",
-                   thin ? "thin" : "thick", thin ? 0.25 * scale : scale, g_um.rate, g_um.pilot_rate, g_um.theta, mt, var,
+            printf("| %s (scale %.3g) | unbiased-march rate %g pilot %g theta %g pilot_min %g strata %d | %.4f | %.3g | %.2f | %.4g | %.4g | %.2f | %.3g |\n",
+                   thin ? "thin" : "thick", thin ? 0.25 * scale : scale, g_um.rate, g_um.pilot_rate, g_um.theta,
+                   g_um.pilot_min_bound, g_um.block_strata, mt, var,
                    lq, q, limit, limit / q, var > 0 ? q / var : 0.0);
         }
     }

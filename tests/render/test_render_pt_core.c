@@ -85,7 +85,8 @@ static vbl_film* render_pt(const vbl_scene* scene, const core_config* cfg, int p
 static const core_config cfg_default = {"ratio, no quads", VBL_PT_SHADOW_RENDER, 0};
 static const core_config cfg_mid = {"shadow residual-mid", VBL_PT_SHADOW_RESIDUAL_MID, 0};
 static const core_config cfg_um = {"shadow unbiased-march", VBL_PT_SHADOW_UNBIASED_MARCH, 0};
-/* the defaults (0: unbiased-march, quads on) are the two switches together */
+static const core_config cfg_uma = {"shadow unbiased-march-adaptive", VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE, 0};
+/* the defaults (0: unbiased-march-adaptive, quads on) are the two switches together */
 static const core_config cfg_quads = {"equiangular quads", VBL_PT_SHADOW_RENDER, 1};
 
 static void check_deterministic_and_active(const core_config* cfg)
@@ -112,6 +113,12 @@ static void test_shadow_um_deterministic(void** state)
 {
     (void)state;
     check_deterministic_and_active(&cfg_um);
+}
+
+static void test_shadow_uma_deterministic(void** state)
+{
+    (void)state;
+    check_deterministic_and_active(&cfg_uma);
 }
 
 static void test_equiangular_quads_deterministic(void** state)
@@ -162,6 +169,13 @@ static void test_shadow_um_agrees_per_layer(void** state)
     check_agrees(&cfg_um, 0);
 }
 
+/* the adaptive march (its deep vertices at the lower rate: every layer past the first bounce) */
+static void test_shadow_uma_agrees_per_layer(void** state)
+{
+    (void)state;
+    check_agrees(&cfg_uma, 0);
+}
+
 static void test_equiangular_quads_agree_per_layer(void** state)
 {
     (void)state;
@@ -174,11 +188,13 @@ int main(int argc, char** argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shadow_mid_deterministic),
         cmocka_unit_test(test_shadow_um_deterministic),
+        cmocka_unit_test(test_shadow_uma_deterministic),
         cmocka_unit_test(test_equiangular_quads_deterministic),
     };
     const struct CMUnitTest agreement[] = {
         cmocka_unit_test(test_shadow_mid_agrees_per_layer),
         cmocka_unit_test(test_shadow_um_agrees_per_layer),
+        cmocka_unit_test(test_shadow_uma_agrees_per_layer),
         cmocka_unit_test(test_equiangular_quads_agree_per_layer),
     };
     if (argc > 1 && !strcmp(argv[1], "agreement")) return cmocka_run_group_tests(agreement, NULL, NULL);

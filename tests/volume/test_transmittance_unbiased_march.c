@@ -3,7 +3,9 @@
  * ramp over one and several majorant blocks) and of a long ratio-tracking mean (a heterogeneous
  * hashed grid); a variance several times below ratio tracking's on the smooth ramp at a similar
  * lookup count (fixed seeds, no timing); finite estimates at densities 1e-8 and 1e6, on
- * zero-length, reversed and NaN rays; the same estimate for the same rng stream. */
+ * zero-length, reversed and NaN rays; the same estimate for the same rng stream; the adaptive march
+ * (session 6) on thin, thick and mixed closed forms with a power check, at densities 1e-8..1e6 and
+ * against ratio tracking on the hashed grid. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -36,21 +38,26 @@ static double fn_hash(int i, int j, int k, void* user)
     return 0.05 + (double)(h >> 11) * (1.0 / 9007199254740992.0);
 }
 
+static vbl_unbiased_march_params g_params; /* estimate(..., march -1, ...): these parameters */
+
 typedef struct stats {
     double mean, se, var, lookups, max_abs;
 } stats;
 
-/* n estimates of T(0, t1); march: 1 unbiased ray marching, 0 ratio tracking at majorant scale k */
+/* n estimates of T(0, t1); march: 0 ratio tracking at majorant scale k, else the march mode
+ * (vbl_tracking_settings.unbiased_march: 1 classic, 2 adaptive, 3 adaptive at a deep vertex) */
 static stats estimate(const vbl_extinction* ext, vbl_vec3 o, vbl_vec3 d, double t1, int march, double k, int n,
                       uint64_t seed)
 {
     vbl_extinction_cursor cur;
     vbl_extinction_cursor_init(&cur, ext);
     vbl_tracking_settings set = {VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, 0, k, 0.0, 0, march};
+    const int direct = march < 0; /* -1: vbl_transmittance_unbiased_march with g_params */
     double s = 0.0, s2 = 0.0, max_abs = 0.0;
     for (int i = 0; i < n; ++i) {
         vbl_rng rng = vbl_rng_make(seed, (uint64_t)i, 41);
-        double x = vbl_transmittance_estimate(ext, &cur, o, d, 0.0, t1, &set, &rng);
+        double x = direct ? vbl_transmittance_unbiased_march(ext, &cur, o, d, 0.0, t1, 0, &g_params, &rng)
+                          : vbl_transmittance_estimate(ext, &cur, o, d, 0.0, t1, &set, &rng);
         assert_true(isfinite(x));
         s += x;
         s2 += x * x;
@@ -164,15 +171,22 @@ static void test_dense_variance_bound(void** state)
             const double ux = (xs[a] + 1.0) / h, px = ux < 0.0 ? ux + 1.0 : 1.0;
             const double tau = sigma * h * px * (box_profile((z1 + 1.0) / h, 9.0) - box_profile((z0s[b] + 1.0) / h, 9.0));
             const double truth = exp(-tau);
-            stats um = estimate(&ext, vbl_v3(xs[a], 0.3, z0s[b]), vbl_v3(0.0, 0.0, 1.0), z1 - z0s[b], 1, 1.0, 20000,
-                                900u + (uint64_t)(5 * a + b));
-            const double limit = 0.1 * truth * truth + 2e-4 * truth;
-            printf("dense box x %g z0 %g: tau %.2f T %.3g, unbiased-march %.3g +- %.2g (var %.3g, bound %.3g, max "
-                   "%.3g, %.1f lookups)\n",
-                   xs[a], z0s[b], tau, truth, um.mean, um.se, um.var, limit, um.max_abs, um.lookups);
-            assert_true(fabs(um.mean - truth) <= 4.0 * um.se + 1e-12);
-            if (truth >= 1e-6) assert_true(um.var <= limit);
-            assert_true(um.max_abs <= fmax(4.0 * truth, 1e-3));
+            for (int mode = 1; mode <= 3; ++mode) { /* classic, adaptive, adaptive at a deep vertex */
+                stats um = estimate(&ext, vbl_v3(xs[a], 0.3, z0s[b]), vbl_v3(0.0, 0.0, 1.0), z1 - z0s[b], mode, 1.0,
+                                    20000, 900u + (uint64_t)(5 * a + b) + 1000u * (uint64_t)(mode - 1));
+                /* the deep vertices' march (rate 1) has ~10x the variance: a 10x looser bound */
+                const double loose = mode == 3 ? 10.0 : 1.0;
+                const double limit = loose * (0.1 * truth * truth + 2e-4 * truth);
+                printf("dense box mode %d x %g z0 %g: tau %.2f T %.3g, unbiased-march %.3g +- %.2g (var %.3g, bound "
+                       "%.3g, max %.3g, %.1f lookups)\n",
+                       mode, xs[a], z0s[b], tau, truth, um.mean, um.se, um.var, limit, um.max_abs, um.lookups);
+                /* where T << 1e-4 / n the roulette leaves few non-zero replicas (often none): the
+                 * standard error is at least the roulette's own, sqrt(1e-4 T / n) */
+                const double se = fmax(um.se, sqrt(1e-4 * truth / 20000.0));
+                assert_true(fabs(um.mean - truth) <= 4.0 * se + 1e-12);
+                if (truth >= 1e-6) assert_true(um.var <= limit);
+                assert_true(um.max_abs <= (mode == 3 ? 2.0 : 1.0) * fmax(4.0 * truth, 1e-3));
+            }
         }
     vt_free(box);
 }
@@ -242,10 +256,130 @@ static void test_finite_and_deterministic(void** state)
     vt_free(v);
 }
 
+/* The adaptive march (vbl_unbiased_march_adaptive, session 6: block-wide strata, a pilot in every
+ * block) at the camera vertex's rate and the deep vertices', and with the mid-bound control
+ * instead of a pilot (params.pilot_min_bound) in every block and in blocks of bound width < 0.5:
+ * the mean within 4 sigma of the closed form on thin rays (every block's bound width below 0.5),
+ * thick ones (pilot blocks, and a majorant segment of bound width above 8: the wide path) and
+ * mixed ones (thin face ramps, exact inner blocks, thick face ramps). Power: each case has 4 sigma
+ * below 5 % of T, so an estimator 5 % off would fail it. */
+static void test_adaptive_closed_forms(void** state)
+{
+    (void)state;
+    double m[3][4];
+    vbl_unbiased_march_params variants[4];
+    variants[0] = vbl_unbiased_march_adaptive(1.0, 0);
+    variants[1] = vbl_unbiased_march_adaptive(1.0, 1);
+    variants[2] = vbl_unbiased_march_adaptive(1.0, 0);
+    variants[2].pilot_min_bound = 1e9; /* the mid-bound control in every block, no pilot */
+    variants[3] = vbl_unbiased_march_adaptive(1.0, 0);
+    variants[3].pilot_min_bound = 0.5; /* no pilot in blocks of bound width < 0.5 */
+    const char* names[4] = {"adaptive", "adaptive deep", "no pilot", "no pilot below 0.5"};
+
+    /* the constant box of test_closed_forms: thin (scale 0.02, tau 0.64) and mixed (0.3, tau 9.6) */
+    vt_uniform_map(m, 1.0, 0.0, 0.0, 0.0);
+    const int bmin[3] = {0, 0, 0}, bmax[3] = {31, 31, 31};
+    vbl_volume* box = vt_make(bmin, bmax, fn_const, NULL, m);
+    assert_non_null(box);
+    const double scales[2] = {0.02, 0.3};
+    for (int s = 0; s < 2; ++s) {
+        vbl_extinction ext;
+        vbl_extinction_init(&ext);
+        assert_int_equal(vbl_extinction_add(&ext, box, scales[s], NULL), VBL_SUCCESS);
+        vbl_vec3 o = vbl_v3(-3.0, 10.3, 17.6), d = vbl_v3(1.0, 0.0, 0.0);
+        const double t1 = s ? 12.0 : 40.0; /* mixed: the face ramp and inner blocks; thin: across */
+        const double truth = exp(-scales[s] * (box_profile(o.x + t1, 32.0) - box_profile(o.x, 32.0)));
+        for (int v = 0; v < 4; ++v) {
+            g_params = variants[v];
+            stats um = estimate(&ext, o, d, t1, -1, 1.0, 20000, 2000u + (uint64_t)(10 * s + v));
+            printf("adaptive: box scale %g, t1 %g, %s: T %.6f, estimate %.6f +- %.2g (%.2f lookups)\n", scales[s], t1,
+                   names[v], truth, um.mean, um.se, um.lookups);
+            assert_true(fabs(um.mean - truth) <= 4.0 * um.se + 1e-12);
+            assert_true(4.0 * um.se < 0.05 * truth); /* power */
+        }
+    }
+    vt_free(box);
+
+    /* the linear ramp over 4^3 (thin at scale 0.3: block bound widths 0.12; thick at 1.5: 0.6,
+     * pilot blocks) and 8^3 majorant blocks (scale 12 over 3.5 voxels: one segment of bound width
+     * 8.4 > 8, the wide path) */
+    const double h = 0.05;
+    vt_uniform_map(m, h, 0.0, 0.0, 0.0);
+    const int rmax[3] = {15, 15, 15};
+    vbl_volume* v8 = vt_make(bmin, rmax, fn_ramp, NULL, m);
+    size_t size;
+    void* buf = vt_make_nanovdb(bmin, rmax, fn_ramp, NULL, m, &size);
+    vbl_volume* v4 = vt_wrap(buf, size, 4);
+    assert_non_null(v8);
+    assert_non_null(v4);
+    const struct {
+        const vbl_volume* vol;
+        double scale, voxels;
+    } rays[3] = {{v4, 0.3, 9.0}, {v4, 1.5, 5.0}, {v8, 12.0, 3.5}};
+    for (int r = 0; r < 3; ++r) {
+        vbl_extinction ext;
+        vbl_extinction_init(&ext);
+        assert_int_equal(vbl_extinction_add(&ext, rays[r].vol, rays[r].scale, NULL), VBL_SUCCESS);
+        vbl_vec3 o = vbl_v3(0.5 * h, 6.2 * h, 9.9 * h), d = vbl_v3(1.0, 0.0, 0.0);
+        const double x0 = 0.5, x1 = 0.5 + rays[r].voxels;
+        const double truth = exp(-rays[r].scale * h * ((x1 + 0.5 * x1 * x1) - (x0 + 0.5 * x0 * x0)));
+        for (int v = 0; v < 4; ++v) {
+            g_params = variants[v];
+            stats um = estimate(&ext, o, d, rays[r].voxels * h, -1, 1.0, 20000, 3000u + (uint64_t)(10 * r + v));
+            printf("adaptive: ramp scale %g, %g voxels, %s: T %.6f, estimate %.6f +- %.2g (var %.3g, %.2f lookups)\n",
+                   rays[r].scale, rays[r].voxels, names[v], truth, um.mean, um.se, um.var, um.lookups);
+            assert_true(fabs(um.mean - truth) <= 4.0 * um.se + 1e-12);
+            assert_true(um.se > 0.0);
+            assert_true(4.0 * um.se < 0.05 * truth); /* power */
+        }
+    }
+    vt_free(v8);
+    vt_free(v4);
+}
+
+/* Every march mode finite at densities 1e-8 .. 1e6 (a decade apart by 2) on the hashed grid, and
+ * its mean at 1 at 1e-8 and 0 at 1e6; the adaptive march's mean within 4 sigma of a long
+ * ratio-tracking mean on the hashed grid (heterogeneous: thin and thick blocks mixed). */
+static void test_adaptive_densities(void** state)
+{
+    (void)state;
+    double m[3][4];
+    vt_uniform_map(m, 0.1, 0.0, 0.0, 0.0);
+    const int bmin[3] = {0, 0, 0}, bmax[3] = {31, 31, 31};
+    vbl_volume* v = vt_make(bmin, bmax, fn_hash, NULL, m);
+    assert_non_null(v);
+    const vbl_vec3 o = vbl_v3(-0.5, 1.1, 1.7), d = vbl_v3_normalize(vbl_v3(1.0, 0.3, 0.1));
+    for (int e = -8; e <= 6; e += 2) {
+        vbl_extinction ext;
+        vbl_extinction_init(&ext);
+        assert_int_equal(vbl_extinction_add(&ext, v, pow(10.0, e), NULL), VBL_SUCCESS);
+        for (int mode = 1; mode <= 3; ++mode) {
+            stats um = estimate(&ext, o, d, 4.0, mode, 1.0, 200, 70u + (uint64_t)(10 * (e + 8) + mode));
+            assert_true(isfinite(um.mean) && isfinite(um.var) && um.max_abs < 1e3);
+            if (e == -8) assert_true(fabs(um.mean - 1.0) < 1e-6);
+            if (e == 6) assert_true(fabs(um.mean) < 1e-6);
+        }
+    }
+    vbl_extinction ext;
+    vbl_extinction_init(&ext);
+    assert_int_equal(vbl_extinction_add(&ext, v, 0.6, NULL), VBL_SUCCESS);
+    for (int mode = 2; mode <= 3; ++mode) {
+        stats um = estimate(&ext, o, d, 4.0, mode, 1.0, 20000, 800u + (uint64_t)mode);
+        stats rt = estimate(&ext, o, d, 4.0, 0, 8.0, 20000, 810u + (uint64_t)mode);
+        const double z = (um.mean - rt.mean) / sqrt(um.se * um.se + rt.se * rt.se);
+        printf("adaptive mode %d, hashed grid: %.6f +- %.2g (%.1f lookups), ratio k=8 %.6f +- %.2g, z %.2f\n", mode,
+               um.mean, um.se, um.lookups, rt.mean, rt.se, z);
+        assert_true(fabs(z) <= 4.0);
+    }
+    vt_free(v);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_closed_forms), cmocka_unit_test(test_heterogeneous),
                                        cmocka_unit_test(test_dense_variance_bound),
-                                       cmocka_unit_test(test_finite_and_deterministic)};
+                                       cmocka_unit_test(test_finite_and_deterministic),
+                                       cmocka_unit_test(test_adaptive_closed_forms),
+                                       cmocka_unit_test(test_adaptive_densities)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

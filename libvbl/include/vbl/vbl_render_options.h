@@ -66,10 +66,13 @@ typedef enum vbl_pt_sampler {
 /* pt's NEE shadow-ray transmittance (render.pt.shadow_transmittance; docs/readme/sampling.md
  * "Shadow-ray transmittance"). */
 typedef enum vbl_pt_shadow_transmittance {
-    VBL_PT_SHADOW_DEFAULT = 0,      /* = unbiased-march (blocked series: docs/readme/sampling.md) */
+    VBL_PT_SHADOW_DEFAULT = 0,      /* = unbiased-march-adaptive (session 6: docs/readme/sampling.md) */
     VBL_PT_SHADOW_RENDER = 1,       /* the render's `transmittance` estimator */
     VBL_PT_SHADOW_RESIDUAL_MID = 2, /* residual ratio tracking, control = the block mid-bound */
-    VBL_PT_SHADOW_UNBIASED_MARCH = 3 /* unbiased ray marching (Kettunen et al. 2021) */
+    VBL_PT_SHADOW_UNBIASED_MARCH = 3, /* unbiased ray marching (Kettunen et al. 2021) */
+    /* the same, its cost following the need: a march's points stratified over the whole block, a
+     * lower march density after the first scattering event (docs/readme/sampling.md) */
+    VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE = 4
 } vbl_pt_shadow_transmittance;
 
 /* vrl's VRL-to-camera-ray transmittance (render.vrl.connect). */
@@ -220,12 +223,13 @@ typedef enum vbl_render_option_effect {
       0, 1, 0, "independent|sobol", HASH,                                                                    \
       "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")   \
     X(pt., pt_shadow_transmittance, shadow_transmittance, vbl_pt_shadow_transmittance, ENUM,                 \
-      "pt.shadow_transmittance", "--pt-shadow-transmittance", VBL_PT_SHADOW_DEFAULT, 0, 3, 0,                \
-      "default|render|residual-mid|unbiased-march", HASH,                                                    \
+      "pt.shadow_transmittance", "--pt-shadow-transmittance", VBL_PT_SHADOW_DEFAULT, 0, 4, 0,                \
+      "default|render|residual-mid|unbiased-march|unbiased-march-adaptive", HASH,                            \
       "pt: NEE shadow rays' transmittance: the `transmittance` estimator (render), residual ratio tracking "  \
       "with the majorant block's mid-bound as control (residual-mid), or unbiased ray marching "             \
       "(unbiased-march: stratified marched optical depths in a power series, may be negative; "              \
-      "default = unbiased-march)")                                                                             \
+      "unbiased-march-adaptive: the same with block-wide strata and half the march density after the "    \
+      "first scattering event; default = unbiased-march-adaptive)")                                         \
     X(pt., pt_equiangular_quads, equiangular_quads, int, BOOL, "pt.equiangular_quads",                      \
       "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
       "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \

@@ -25,7 +25,8 @@ typedef struct vbl_tracking_settings {
     int residual_mid;
     /* 1: every estimator above is replaced by unbiased ray marching (transmittance_unbiased_march.h,
      * issue 14 item 4; pt.shadow_transmittance = unbiased-march); majorant_scale > 1 multiplies its
-     * march density. 0 (older initializers): off. */
+     * march density. 2: the adaptive march (vbl_unbiased_march_adaptive, pt.shadow_transmittance =
+     * unbiased-march-adaptive), 3: the same at a deep path vertex. 0 (older initializers): off. */
     int unbiased_march;
 } vbl_tracking_settings;
 

@@ -31,6 +31,11 @@
  *    m = rate r len points: m >= 1: ceil(m) (at most max_points) jittered strata; m < 1: one
  *    uniform point with probability m, weight 1 / m. Both unbiased.
  *
+ * The adaptive march (params.block_strata, pt.shadow_transmittance = unbiased-march-adaptive)
+ * places each march's points over the whole block instead of per piece (vbl_um_march_strata), and
+ * pt gives it a lower rate at deep vertices (vbl_unbiased_march_adaptive); params.pilot_min_bound
+ * replaces the pilot by the mid-bound control in thin blocks (off by default: measured worse).
+ *
  * The running product W of finished factors plays Russian roulette once |W| < 1e-4 (survives
  * with |W| / 1e-4, then |W| = 1e-4; ratio tracking's rule on its weight), so lookups stop where
  * T is small even when the minorants are 0.
@@ -91,6 +96,50 @@ static double vbl_um_march(const vbl_extinction* ext, vbl_extinction_cursor* cur
     return R;
 }
 
+/* The adaptive march (params.block_strata): R over the whole block with its points stratified in
+ * the residual-depth coordinate u = int r dt in [0, W], W = sum r len the block's bound width (an
+ * importance density r / W along t, constant per piece): m = rate W; m >= 1: K = ceil(m) (at most
+ * `cap`) strata of width W / K, one jittered u each, R = (W / K) sum (sigma_t - c) / r at its t;
+ * m < 1: one uniform u with probability m, R = (1 / rate) (sigma_t - c) / r. Unbiased (the density
+ * integrates each piece's (sigma_t - c) / r x r dt), |R| <= W, resp. <= 1 / rate; the points
+ * follow the block's total residual depth, so many thin pieces share strata instead of each
+ * rounding its count up (a thin block costs rate W lookups on average, a full one ceil(rate W)). */
+static double vbl_um_march_strata(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                  vbl_vec3 direction, const vbl_um_piece* pc, int n, double W, double rate,
+                                  vbl_rng* rng)
+{
+    const double m = rate * W;
+    int K = 1;
+    double h = W; /* the stratum width in u */
+    if (m < 1.0) {
+        if (!(vbl_rng_uniform(rng) < m)) return 0.0;
+    } else {
+        K = m < (double)pc[0].cap ? (int)ceil(m) : pc[0].cap;
+        h = W / (double)K;
+    }
+    double s = 0.0, U = 0.0; /* U: u at the start of piece i */
+    int i = 0;
+    for (int j = 0; j < K; ++j) {
+        const double u = ((double)j + vbl_rng_uniform(rng)) * h;
+        while (i + 1 < n && u >= U + pc[i].r * pc[i].len) {
+            U += pc[i].r * pc[i].len;
+            ++i;
+        }
+        double t = pc[i].t0 + (u - U) / pc[i].r;
+        if (!(t < pc[i].t0 + pc[i].len)) t = pc[i].t0; /* rounding */
+        s += (vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), NULL) - pc[i].c) / pc[i].r;
+    }
+    return m < 1.0 ? s / rate : h * s;
+}
+
+static double vbl_um_x(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                       vbl_vec3 direction, const vbl_um_piece* pc, int n, double bound, double rate, int strata,
+                       vbl_rng* rng)
+{
+    return strata ? vbl_um_march_strata(ext, cursor, origin, direction, pc, n, bound, rate, rng)
+                  : vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng);
+}
+
 /* The block's estimate of exp(-tau_b): tau_b = exact + int (sigma_t - c) with |int| <= bound
  * (Kettunen et al. 2021, sec. 3 eq. for the power series around tau_c; sec. 4 the random order). */
 static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
@@ -100,13 +149,19 @@ static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cur
     const double rate = p->rate > 0.0 ? p->rate : VBL_UNBIASED_MARCH_RATE;
     const double pilot_rate = p->pilot_rate > 0.0 ? p->pilot_rate : VBL_UNBIASED_MARCH_RATE;
     const double theta = p->theta > 0.0 ? p->theta : 1.0;
-    /* the control tau_c = exact + rc, rc the pilot clamped to the true residual's bounds */
-    double rc = vbl_um_march(ext, cursor, origin, direction, pc, n, pilot_rate, rng);
-    if (rc < -bound) rc = -bound;
-    if (rc > bound) rc = bound;
+    const int strata = p->block_strata;
+    /* the control tau_c = exact + rc, rc the pilot clamped to the true residual's bounds; below
+     * pilot_min_bound the mid-bound itself (rc = 0: any control independent of the factors keeps
+     * the series unbiased; |tau - tau_c| <= bound, so the series' roulette terms stay O(bound^3)) */
+    double rc = 0.0;
+    if (!(bound < p->pilot_min_bound)) {
+        rc = vbl_um_x(ext, cursor, origin, direction, pc, n, bound, pilot_rate, strata, rng);
+        if (rc < -bound) rc = -bound;
+        if (rc > bound) rc = bound;
+    }
     const double tc = exp(-(exact - bound)) * exp(-(rc + bound)); /* both factors <= 1 */
     if (!(tc > 0.0)) return 0.0;                                  /* below double precision */
-    double d = rc - vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng); /* D_1 */
+    double d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, rng); /* D_1 */
     double term = d; /* prod D_j / (k! P(N >= k)) at k = 1 */
     double sum = 1.0 + term;
     for (int k = 1; d != 0.0; ++k) {
@@ -120,7 +175,7 @@ static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cur
         } else {
             w = term;
         }
-        d = rc - vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng);
+        d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, rng);
         term = w * d / (double)(k + 1);
         sum += term;
     }
@@ -131,7 +186,16 @@ vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 {
     const double k = scale > 1.0 ? scale : 1.0;
     vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k, VBL_UNBIASED_MARCH_RATE * k,
-                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH};
+                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0};
+    return p;
+}
+
+vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep)
+{
+    vbl_unbiased_march_params p = vbl_unbiased_march_defaults(scale);
+    if (deep) p.rate = p.pilot_rate = VBL_UNBIASED_MARCH_DEEP_RATE;
+    p.pilot_min_bound = VBL_UNBIASED_MARCH_PILOT_MIN;
+    p.block_strata = 1;
     return p;
 }
 

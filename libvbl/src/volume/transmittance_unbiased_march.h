@@ -27,10 +27,27 @@ typedef struct vbl_unbiased_march_params {
     int max_points;    /* >= 1: per segment and estimate */
     double theta;      /* > 0: roulette scale: after factor k continue with min(1, |D_k| / (theta (k + 1))) */
     double block_depth; /* > 0: most bound width of one block (VBL_UNBIASED_MARCH_BLOCK_DEPTH) */
+    /* Adaptive march (session 6; 0 in older initializers: the classic march above). A block whose
+     * bound width sum (max - min) / 2 x len is below pilot_min_bound takes the deterministic
+     * mid-bound control (no pilot march); block_strata 1 stratifies a march's points over the whole
+     * block in the residual-depth coordinate (ceil(rate x bound) points per block, importance
+     * sampled by the pieces' radii) instead of ceil(rate r len) per piece. */
+    double pilot_min_bound;
+    int block_strata;
 } vbl_unbiased_march_params;
 
 /* The defaults (rate = pilot_rate = VBL_UNBIASED_MARCH_RATE x `scale` for scale > 1, else x 1). */
 vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale);
+
+/* Adaptive march: block-wide strata, and at a deep vertex (`deep` 1: the shadow ray of a path
+ * vertex after the first scattering event) the rate VBL_UNBIASED_MARCH_DEEP_RATE instead of
+ * VBL_UNBIASED_MARCH_RATE (measured in bench/results/umarch_s6.txt). VBL_UNBIASED_MARCH_PILOT_MIN
+ * is its pilot_min_bound: 0, a pilot in every block (skipping it below a bound width of 0.1-0.5
+ * saved lookups but raised the smoky room's volume_from_volume error 1.2x: the mid-bound is a
+ * poor control where the majorant bounds are loose). */
+#define VBL_UNBIASED_MARCH_PILOT_MIN 0.0
+#define VBL_UNBIASED_MARCH_DEEP_RATE 2.0
+vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep);
 
 /* One estimate of T(t0, t1) along origin + t direction; `direction` must be unit
  * (vbl_unit_ray). Deterministic per rng stream; counts its lookups in the cursor. */

@@ -262,10 +262,14 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * (volume/transmittance.h) or unbiased ray marching (transmittance_unbiased_march.h); free
      * flights are unaffected */
     vbl_render_context shadow_ctx;
-    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH ||
-        ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_DEFAULT) { /* the default (docs/readme/sampling.md) */
+    if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH) {
         shadow_ctx = *ctx;
         shadow_ctx.tracking.unbiased_march = 1;
+        ctx = &shadow_ctx;
+    } else if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_UNBIASED_MARCH_ADAPTIVE ||
+               ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_DEFAULT) { /* the default (docs/readme/sampling.md) */
+        shadow_ctx = *ctx;
+        shadow_ctx.tracking.unbiased_march = 2;
         ctx = &shadow_ctx;
     } else if (ctx->options.pt.shadow_transmittance == VBL_PT_SHADOW_RESIDUAL_MID) {
         shadow_ctx = *ctx;
@@ -279,9 +283,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     int branch_count = 0;
     vbl_rng branch_rng;
     vbl_render_context tight_ctx;
-    if (ctx->tracking.majorant_scale > 1.0) {
+    /* the adaptive march's deep vertices march at VBL_UNBIASED_MARCH_DEEP_RATE (chosen by the
+     * vertex, before the shadow ray's random numbers: unbiased) */
+    if (ctx->tracking.majorant_scale > 1.0 || ctx->tracking.unbiased_march == 2) {
         tight_ctx = *ctx;
         tight_ctx.tracking.majorant_scale = 1.0;
+        if (tight_ctx.tracking.unbiased_march == 2) tight_ctx.tracking.unbiased_march = 3;
         ctx = &tight_ctx;
     }
     for (;;) { /* the camera path, then each waiting copy of a split */
