@@ -288,7 +288,7 @@ vbl_result vbl_render_output_check_resume(vbl_render_output* o, const vbl_scene*
     memset(&stats, 0, sizeof stats);
     stats.method = options->method;
     stats.spp = options->spp;
-    stats.light_paths = vbl_render_options_light_paths(options);
+    stats.light_paths = vbl_render_light_paths(scene, options);
     stats.seed = options->seed;
     vbl_render_exr_meta m;
     vbl_render_exr_meta_make(&o->exr, &stats, options, 0, options->first_pass, 0, "checkpoint", 0.0, &m);

@@ -64,7 +64,7 @@ static void test_parse_fields(void** state)
     assert_int_equal(load_text("ok.json",
                                "{" CAMERA ", \"render\": {\"method\": \"vrl\", \"light_paths\": 50,"
                                " \"vrl\": {\"samples\": 3, \"long\": true, \"connect\": \"march\", \"march_step\": 0.05,"
-                               " \"prune_radius\": 0.25, \"prune_min_probability\": 0.05, \"select\": 8, \"_note\": \"x\"},"
+                               " \"prune_radius\": 0.25, \"prune_min_probability\": 0.05, \"select\": 3, \"_note\": \"x\"},"
                                " \"vpl\": {\"clamp_distance\": 0.1}}}",
                                &scene),
                      VBL_SUCCESS);
@@ -79,7 +79,7 @@ static void test_parse_fields(void** state)
     assert_true(o.vrl.prune_radius == 0.25);
     assert_true(o.vrl.prune_min_probability == 0.05);
     assert_true(o.vpl.clamp_distance == 0.1);
-    assert_int_equal(o.vrl.select, 8);
+    assert_int_equal(o.vrl.select, 3); /* not the default (VBL_VRL_SELECT_DEFAULT) */
     vbl_scene_release(scene);
 
     assert_int_equal(load_text("ok2.json",
@@ -90,7 +90,7 @@ static void test_parse_fields(void** state)
     assert_int_equal(o.vrl.long_vrls, 0);
     assert_int_equal(o.vrl.connect, 0);
     assert_int_equal(o.vrl.samples, 1);
-    assert_int_equal(o.vrl.select, 0);
+    assert_int_equal(o.vrl.select, VBL_VRL_SELECT_DEFAULT);
     vbl_scene_release(scene);
 }
 
@@ -163,37 +163,86 @@ static void test_light_paths_method_default(void** state)
     assert_int_equal(o.light_paths, 0);
     const struct {
         vbl_render_method method;
-        int light_paths;
-    } want[] = {{VBL_RENDER_PT, VBL_LIGHT_PATHS_DEFAULT},       {VBL_RENDER_VPL, VBL_LIGHT_PATHS_DEFAULT},
-                {VBL_RENDER_VRL, VBL_LIGHT_PATHS_DEFAULT_VRL},  {VBL_RENDER_VBL, VBL_LIGHT_PATHS_DEFAULT_VBL},
-                {VBL_RENDER_BEAMS, VBL_LIGHT_PATHS_DEFAULT}};
+        int media_only, with_surfaces; /* the default count in a media-only scene and with surfaces */
+    } want[] = {{VBL_RENDER_PT, VBL_LIGHT_PATHS_DEFAULT, VBL_LIGHT_PATHS_DEFAULT},
+                {VBL_RENDER_VPL, VBL_LIGHT_PATHS_DEFAULT, VBL_LIGHT_PATHS_DEFAULT},
+                {VBL_RENDER_VRL, VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY, VBL_LIGHT_PATHS_DEFAULT_VRL},
+                {VBL_RENDER_VBL, VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY, VBL_LIGHT_PATHS_DEFAULT_VBL},
+                {VBL_RENDER_BEAMS, VBL_LIGHT_PATHS_DEFAULT, VBL_LIGHT_PATHS_DEFAULT}};
     assert_int_equal(VBL_LIGHT_PATHS_DEFAULT, 10000);
     assert_true(VBL_LIGHT_PATHS_DEFAULT_VRL >= 1 && VBL_LIGHT_PATHS_DEFAULT_VRL <= 100);
     assert_true(VBL_LIGHT_PATHS_DEFAULT_VBL >= 1 && VBL_LIGHT_PATHS_DEFAULT_VBL <= 100);
+    assert_true(VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY > VBL_LIGHT_PATHS_DEFAULT_VRL);
+    assert_int_equal(o.vrl.select, VBL_VRL_SELECT_DEFAULT); /* the light tree is on by default */
+    assert_true(VBL_VRL_SELECT_DEFAULT > 0);
     assert_int_equal(vbl_render_options_light_paths(NULL), 0);
-    vbl_scene* scene = NULL;
-    assert_int_equal(load_text("lp.json", "{" CAMERA "}", &scene), VBL_SUCCESS);
+    assert_int_equal(vbl_render_light_paths(NULL, NULL), 0);
+    vbl_scene* scenes[2] = {NULL, NULL}; /* media only (no surfaces), with one quad */
+    assert_int_equal(load_text("lp.json", "{" CAMERA "}", &scenes[0]), VBL_SUCCESS);
+    assert_int_equal(load_text("lp_surface.json", "{" CAMERA "}", &scenes[1]), VBL_SUCCESS);
+    const double quad[12] = {-3, -3, -1, 3, -3, -1, 3, 3, -1, -3, 3, -1};
+    const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    vbl_material lambert;
+    memset(&lambert, 0, sizeof lambert);
+    lambert.type = VBL_MATERIAL_LAMBERT;
+    lambert.albedo = vbl_v3(0.5, 0.5, 0.5);
+    assert_int_equal(vbl_scene_add_mesh(scenes[1], quad, 4, idx, 2, &lambert, NULL), VBL_SUCCESS);
     for (size_t i = 0; i < sizeof want / sizeof want[0]; ++i) {
-        o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
-        o.method = want[i].method;
-        assert_int_equal(vbl_render_options_light_paths(&o), want[i].light_paths);
-        o.light_paths = 7;
-        assert_int_equal(vbl_render_options_light_paths(&o), 7);
-        /* the film records the count the render used */
-        o.light_paths = 0;
-        o.passes = 1;
-        o.spp = 1;
-        o.threads = 1;
-        vbl_film* film = NULL;
-        assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
-        vbl_film_stats st;
-        memset(&st, 0, sizeof st);
-        st.size = sizeof st;
-        assert_int_equal(vbl_film_get_stats(film, &st), VBL_SUCCESS);
-        assert_int_equal(st.light_paths, want[i].light_paths);
-        vbl_film_release(film);
+        for (int s = 0; s < 2; ++s) {
+            const int count = s ? want[i].with_surfaces : want[i].media_only;
+            o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
+            o.method = want[i].method;
+            assert_int_equal(vbl_render_options_light_paths(&o), want[i].with_surfaces); /* no scene */
+            assert_int_equal(vbl_render_light_paths(NULL, &o), want[i].with_surfaces);
+            assert_int_equal(vbl_render_light_paths(scenes[s], &o), count);
+            o.light_paths = 7;
+            assert_int_equal(vbl_render_options_light_paths(&o), 7);
+            assert_int_equal(vbl_render_light_paths(scenes[s], &o), 7);
+            /* the film records the count the render used */
+            o.light_paths = 0;
+            o.passes = 1;
+            o.spp = 1;
+            o.threads = 1;
+            vbl_film* film = NULL;
+            assert_int_equal(vbl_render(scenes[s], &o, &film), VBL_SUCCESS);
+            vbl_film_stats st;
+            memset(&st, 0, sizeof st);
+            st.size = sizeof st;
+            assert_int_equal(vbl_film_get_stats(film, &st), VBL_SUCCESS);
+            assert_int_equal(st.light_paths, count);
+            vbl_film_release(film);
+        }
     }
-    vbl_scene_release(scene);
+    vbl_scene_release(scenes[0]);
+    vbl_scene_release(scenes[1]);
+}
+
+/* vrl.select is hashed against 0 (its default before VBL_VRL_SELECT_DEFAULT) for vrl and vbl: a film
+ * of the former default merges with --vrl-select 0 only, and files written before keep their hash
+ * (the method is not hashed, so theirs is the hash of the default pt options). */
+static void test_vrl_select_hash(void** state)
+{
+    (void)state;
+    char pt_default[64], h[64], h0[64], h4[64];
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    vbl_render_options_hash(&o, pt_default, sizeof pt_default);
+    o.vrl.select = 0; /* pt ignores it: same hash at 0 and at the default */
+    vbl_render_options_hash(&o, h, sizeof h);
+    assert_string_equal(h, pt_default);
+    const vbl_render_method methods[] = {VBL_RENDER_VRL, VBL_RENDER_VBL};
+    for (int m = 0; m < 2; ++m) {
+        o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
+        o.method = methods[m];
+        vbl_render_options_hash(&o, h, sizeof h);
+        o.vrl.select = 0;
+        vbl_render_options_hash(&o, h0, sizeof h0);
+        o.vrl.select = 4;
+        vbl_render_options_hash(&o, h4, sizeof h4);
+        assert_string_equal(h0, pt_default); /* every VRL: the hash of the files before */
+        assert_string_not_equal(h, h0);      /* the default (light tree) is another estimator */
+        assert_string_not_equal(h4, h0);
+        assert_string_not_equal(h4, h);
+    }
 }
 
 int main(void)
@@ -204,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_render_validates),
         cmocka_unit_test(test_light_paths_method_default),
+        cmocka_unit_test(test_vrl_select_hash),
     };
     return cmocka_run_group_tests(tests, rt_temp_dir_setup, rt_temp_dir_teardown);
 }

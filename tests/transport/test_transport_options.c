@@ -59,9 +59,13 @@ static void test_options_change_estimators(void** state)
     vbl_scene* scene = box_point(8);
     vbl_render_options o = tt_options(1, 1, 200, 5);
     o.method = VBL_RENDER_VRL;
+    o.vrl.select = 0; /* every VRL: the pruning roulette acts only there (no light tree) */
     double base = from_volume_mean(scene, &o, NULL);
     assert_true(base > 0.0);
     vbl_render_options v = o;
+    v.vrl.select = VBL_VRL_SELECT_DEFAULT;
+    assert_true(from_volume_mean(scene, &v, NULL) != base);
+    v = o;
     v.vrl.samples = 3;
     assert_true(from_volume_mean(scene, &v, NULL) != base);
     v = o;

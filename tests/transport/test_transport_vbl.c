@@ -201,6 +201,7 @@ static double pixel_variance(const vbl_scene* s, const vbl_estimator* est, int K
     double sum[N] = {0}, sq[N] = {0};
     for (int k = 0; k < K; ++k) {
         vbl_render_options o = tt_options(1, 1, 12, 1000 + 7919u * (uint64_t)k);
+        o.vrl.select = 0; /* every VRL for vrl too, like fixed_vbl's settings: kernel against kernel */
         vbl_film* f = NULL;
         assert_int_equal(vbl_render_with_estimator(s, &o, est, &f), VBL_SUCCESS);
         assert_true(tt_film_finite(f));
@@ -332,6 +333,7 @@ static void test_optical_radius_options(void** state)
     /* a different fraction changes the image (the box's mean free path 1/8 is below R_p) */
     r = tt_options(1, 1, 8, 3);
     r.method = VBL_RENDER_VBL;
+    r.vrl.select = 0; /* every VRL: 8 tree draws per camera sample on 16 pixels all miss here (layer 0) */
     r.beam_lights.radius0 = 0.5;
     r.beam_lights.radius_mfp = 1e30;
     vbl_film* fa = render_method(s, r);

@@ -128,6 +128,14 @@ VBL_API vbl_result vbl_render_method_parse(const char* name, vbl_render_method* 
  * fields it leaves out); callback, threads and size are kept as they are. */
 VBL_API vbl_result vbl_scene_render_options(const vbl_scene* scene, vbl_render_options* options);
 
+/* The light paths per pass a render of `scene` with `options` traces: options->light_paths, or where
+ * that is 0 the method's default for the scene: vrl and vbl trace VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY
+ * in a scene without surfaces and VBL_LIGHT_PATHS_DEFAULT_VRL / _VBL with surfaces (chosen by
+ * measured error at equal CPU time, docs/readme/vrl.md "Defaults"), the others
+ * VBL_LIGHT_PATHS_DEFAULT. This is the count written to films and EXRs (vbl:light_paths). A NULL
+ * scene gives vbl_render_options_light_paths; 0 for NULL options. */
+VBL_API int vbl_render_light_paths(const vbl_scene* scene, const vbl_render_options* options);
+
 /* ---- film ------------------------------------------------------------------------------ */
 
 /* The result of a render: float layers, row 0 at the top, channels interleaved. Reference

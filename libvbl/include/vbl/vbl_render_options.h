@@ -93,10 +93,17 @@ typedef enum vbl_vrl_pair_sampler {
 #define VBL_VSL_LIGHTS_DEFAULT 1024
 /* light_paths = 0: the method's default (vbl_render_options_light_paths). */
 #define VBL_LIGHT_PATHS_DEFAULT 10000
-/* vrl's default light paths per pass (each traces VRLs, which cost more than points). */
+/* vrl's default light paths per pass in scenes with surfaces (their gathers evaluate every virtual
+ * light per surface hit, so a pass costs O(light paths) per pixel there). */
 #define VBL_LIGHT_PATHS_DEFAULT_VRL 10
-/* vbl's default light paths per pass. */
+/* vbl's default light paths per pass in scenes with surfaces. */
 #define VBL_LIGHT_PATHS_DEFAULT_VBL 10
+/* vrl's and vbl's default light paths per pass in media-only scenes, where the light tree
+ * (vrl.select) makes a camera sample O(K log N) (measured at equal CPU: docs/readme/vrl.md,
+ * "Defaults"). */
+#define VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY 1000
+/* vrl.select's default: VRL pieces per camera sample from the light tree (docs/readme/vrl.md). */
+#define VBL_VRL_SELECT_DEFAULT 8
 
 /* Per-class combination of pt with a virtual-light method (render.hybrid; docs/readme/hybrid.md). */
 typedef enum vbl_hybrid_mode {
@@ -172,7 +179,8 @@ typedef enum vbl_render_option_effect {
       "independent progressive passes")                                                                      \
     X(, spp, spp, int, INT, "spp", "--spp", 4, 1, 1e6, 0, NULL, IDENTITY, "camera samples per pixel per pass") \
     X(, light_paths, light_paths, int, INT, "light_paths", "--light-paths", 0, 0, 2e9, 0, NULL, IDENTITY,     \
-      "light paths per pass (vpl, vrl, vbl, beams; 0: the method's default, vrl 10, vbl 10, others 10000)")   \
+      "light paths per pass (vpl, vrl, vbl, beams; 0: the method's default: vrl and vbl 1000 in media-only " \
+      "scenes and 10 with surfaces, others 10000)")                                                         \
     X(, seed, seed, uint64_t, UINT64, "seed", "--seed", 0, 0, 18446744073709551615.0, 0, NULL, IDENTITY,    \
       "random seed (scene files: at most 2^53)")                                                             \
     X(, time_limit, time_limit, double, DOUBLE, "time_limit", "--time-limit", 0.0, 0, INFINITY, 0, NULL,     \
@@ -272,8 +280,10 @@ typedef enum vbl_render_option_effect {
       "--vrl-prune-min-probability", 0.1, 0, 1,                                                              \
       VBL_OPTION_MIN_OPEN | VBL_OPTION_ZERO_DEFAULT | VBL_OPTION_HASH_ALWAYS, NULL, HASH,                    \
       "vrl: floor of the pruning survival probability")                                                      \
-    X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", 0, 0, 1e6, 0, NULL, HASH,            \
-      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every VRL)") \
+    X(vrl., vrl_select, select, int, INT, "vrl.select", "--vrl-select", VBL_VRL_SELECT_DEFAULT, 0, 1e6, 0,   \
+      NULL, HASH,                                                                                            \
+      "vrl, vbl: K VRL pieces per camera sample from a light tree, weighted 1 / (K pdf) (unbiased; 0: every " \
+      "VRL)")                                                                                                \
     X(vrl., vrl_light_guide, light_guide, int, INT, "vrl.light_guide", "--vrl-light-guide", 0, 0, 2, 0, NULL,    \
       HASH, "vrl, vbl: light paths split / rouletted by camera importance: 0 off, 1 bounded, 2 window (unbiased)") \
     X(vrl., vrl_pair_sampler, pair_sampler, vbl_vrl_pair_sampler, ENUM, "vrl.pair_sampler", "--vrl-pair-sampler", \
@@ -428,10 +438,10 @@ VBL_API vbl_result vbl_render_option_get(const vbl_render_options* options, cons
  * renders' files merge only if their hashes agree). out[size >= 25]. */
 VBL_API void vbl_render_options_hash(const vbl_render_options* options, char* out, size_t size);
 
-/* The light paths per pass a render with these options traces: options->light_paths, or where that
- * is 0 the method's default (VBL_LIGHT_PATHS_DEFAULT_VRL, _VBL for vrl and vbl, chosen by measured
- * error at equal time, docs/readme/vrl.md; VBL_LIGHT_PATHS_DEFAULT for the others). This is the
- * count written to films and EXRs (vbl:light_paths). 0 for a NULL argument. */
+/* The light paths per pass of these options without a scene: options->light_paths, or where that
+ * is 0 the method's default for a scene with surfaces (VBL_LIGHT_PATHS_DEFAULT_VRL, _VBL for vrl and
+ * vbl; VBL_LIGHT_PATHS_DEFAULT for the others). A render uses vbl_render_light_paths (vbl_render.h),
+ * which also knows the media-only default. 0 for a NULL argument. */
 VBL_API int vbl_render_options_light_paths(const vbl_render_options* options);
 
 /* Heap options for bindings that do not mirror the struct: created with the defaults. */

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "scene/scene.h"
 #include "vbl/vbl_film.h"
 
 #define VBL_OPT_TYPE_NAME_INT "int"
@@ -295,6 +296,14 @@ int vbl_render_options_light_paths(const vbl_render_options* o)
     }
 }
 
+int vbl_render_light_paths(const vbl_scene* scene, const vbl_render_options* o)
+{
+    if (!o || o->light_paths > 0 || !scene) return vbl_render_options_light_paths(o);
+    if ((o->method == VBL_RENDER_VRL || o->method == VBL_RENDER_VBL) && !scene->has_surfaces)
+        return VBL_LIGHT_PATHS_DEFAULT_VL_MEDIA_ONLY;
+    return vbl_render_options_light_paths(o);
+}
+
 vbl_result vbl_render_options_validate(const vbl_render_options* o)
 {
     if (!o) return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render: NULL options");
@@ -391,7 +400,14 @@ void vbl_render_options_hash(const vbl_render_options* o, char* out, size_t size
         const vbl_render_option_info* d = &vbl_option_descs[i];
         if (d->effect != VBL_OPTION_EFFECT_HASH) continue;
         double v = vbl_option_number(o, i);
-        if (!(d->flags & VBL_OPTION_HASH_ALWAYS) && v == d->default_value) continue;
+        if (i == VBL_OPT_vrl_select) {
+            /* hashed against 0, its default before VBL_VRL_SELECT_DEFAULT, for vrl and vbl (which use
+             * it): their files written before keep their hash, and a film of the former default
+             * (every VRL) merges only with --vrl-select 0; the other methods omit it at either value */
+            const int uses = o->method == VBL_RENDER_VRL || o->method == VBL_RENDER_VBL;
+            if (v == 0.0 || (!uses && v == d->default_value)) continue;
+        } else if (!(d->flags & VBL_OPTION_HASH_ALWAYS) && v == d->default_value)
+            continue;
         /* as files written before the table have them: on = 1, off = 0; 0 lights = the default */
         if (i == VBL_OPT_vsl_path_extension) v = v == VBL_VSL_PATH_EXTENSION_OFF ? 0.0 : 1.0;
         if (i == VBL_OPT_vsl_lights && !(v > 0.0)) v = VBL_VSL_LIGHTS_DEFAULT;

@@ -246,7 +246,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     }
     ctx.options = *options;
     ctx.options.size = sizeof(vbl_render_options);
-    ctx.options.light_paths = vbl_render_options_light_paths(options); /* 0: the method's default */
+    ctx.options.light_paths = vbl_render_light_paths(scene, options); /* 0: the method's default */
     ctx.tracking.estimator = vbl_uncached(options->transmittance);
     ctx.tracking.march_step = 0.0;
     ctx.tracking.use_global_majorant = 0;

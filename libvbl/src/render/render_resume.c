@@ -23,7 +23,7 @@ vbl_result vbl_render_resume(const vbl_scene* scene, const vbl_render_options* o
     if (vbl_film_width(base) != w || vbl_film_height(base) != h)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "vbl_render_resume: the base film is %dx%d, the scene %dx%d",
                          vbl_film_width(base), vbl_film_height(base), w, h);
-    const int light_paths = vbl_render_options_light_paths(options);
+    const int light_paths = vbl_render_light_paths(scene, options);
     if (b.method != options->method || b.spp != options->spp || b.light_paths != light_paths ||
         b.seed != options->seed)
         return vbl_error(VBL_ERROR_INVALID_ARGUMENT,
