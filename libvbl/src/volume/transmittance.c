@@ -56,7 +56,21 @@ typedef struct vbl_tracker {
     void* visit_user;
     double rr;    /* Russian-roulette threshold of the ratio estimators */
     int residual_mid; /* residual tracking's control: 1 the mid-bound, 0 the minorant */
+    /* free flight only: the first uniforms of the flight come from here (a caller's
+     * low-discrepancy pattern, vbl_free_flight_sample_pattern), the rest from rng */
+    const double* u_first;
+    int u_first_count;
 } vbl_tracker;
+
+/* The tracker's next uniform: a caller's pattern value while any is left, then the stream. */
+static inline double vbl_tracker_uniform(vbl_tracker* tr)
+{
+    if (tr->u_first_count > 0) {
+        --tr->u_first_count;
+        return *tr->u_first++;
+    }
+    return vbl_rng_uniform(tr->rng);
+}
 
 /* The roulette threshold of a settings value (0: VBL_RR_THRESHOLD). */
 static inline double vbl_rr_of(double rr) { return rr > 0.0 && rr <= 1.0 ? rr : VBL_RR_THRESHOLD; }
@@ -90,7 +104,7 @@ static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double 
 {
     double p = (sigma_t - sigma_c) / mu; /* in [0, 1] for true bounds, [-1, 1] for the mid-bound control */
     if (tr->kind == VBL_TRANSMITTANCE_DELTA_TRACKING) {
-        if (vbl_rng_uniform(tr->rng) < p) {
+        if (vbl_tracker_uniform(tr) < p) {
             tr->weight = 0.0;
             return VBL_TRACK_STOP;
         }
@@ -131,6 +145,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             const double sigma = seg.majorant;
             if (tr->sampling) { /* analytic exponential free flight */
                 double t = seg.t0;
+                if (!(tau >= 0.0) && tr->u_first_count > 0) tau = -log1p(-vbl_tracker_uniform(tr));
                 if (!vbl_exp_carry_step(&tau, &t, seg.t1, sigma, tr->rng)) continue;
                 tr->t_stop = t;
                 tr->sigma_stop = sigma;
@@ -173,7 +188,10 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             continue; /* empty (or exactly known) segment: no lookups */
         }
         double t = seg.t0, t_control = seg.t0; /* the late control covers [t_control, t1] */
-        while (vbl_exp_carry_step(&tau, &t, seg.t1, mu, tr->rng)) {
+        for (;;) {
+            /* a pattern's uniform for the next depth (free flight): the same law as the step's own */
+            if (!(tau >= 0.0) && tr->u_first_count > 0) tau = -log1p(-vbl_tracker_uniform(tr));
+            if (!vbl_exp_carry_step(&tau, &t, seg.t1, mu, tr->rng)) break;
             double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
             if (tr->visit) tr->visit(tr->visit_user, vbl_v3_madd(origin, direction, t), mu, per_component);
             if (vbl_tracker_event(tr, sigma_t, mu, sigma_c) == VBL_TRACK_STOP) {
@@ -282,7 +300,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
         vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL,
-                          vbl_rr_of(settings->rr_threshold), settings->residual_mid};
+                          vbl_rr_of(settings->rr_threshold), settings->residual_mid, NULL, 0};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -290,13 +308,15 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     }
 }
 
-int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
-                           vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
-                           double* t_collision, double* sigma_t_at, double* per_component)
+int vbl_free_flight_sample_pattern(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                   vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                                   const double* u_first, int u_first_count, double* t_collision, double* sigma_t_at,
+                                   double* per_component, vbl_tracking_visit visit, void* visit_user)
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL, VBL_RR_THRESHOLD, 0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD,
+                      0, u_first, u_first ? u_first_count : 0};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -304,19 +324,21 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
     return 1;
 }
 
+int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                           double* t_collision, double* sigma_t_at, double* per_component)
+{
+    return vbl_free_flight_sample_pattern(ext, cursor, origin, direction, t0, t1, use_global_majorant, rng, NULL, 0,
+                                          t_collision, sigma_t_at, per_component, NULL, NULL);
+}
+
 int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                                  vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
                                  double* t_collision, double* sigma_t_at, double* per_component,
                                  vbl_tracking_visit visit, void* visit_user)
 {
-    double len;
-    if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD, 0};
-    if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
-        return 0;
-    if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
-    if (sigma_t_at) *sigma_t_at = tr.sigma_stop;
-    return 1;
+    return vbl_free_flight_sample_pattern(ext, cursor, origin, direction, t0, t1, use_global_majorant, rng, NULL, 0,
+                                          t_collision, sigma_t_at, per_component, visit, visit_user);
 }
 
 /* Internal (transmittance_cache.c): one ratio-tracking pass that reports every tentative point;
@@ -327,7 +349,7 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0, NULL, 0};
     int records = 0;
     double t_last = t0, tau = -1.0; /* carried optical depth (vbl_exp_carry_step) */
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
