@@ -95,7 +95,7 @@ int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_curso
  * pt.sampler = sobol). u_first NULL or u_first_count 0: vbl_free_flight_sample_visit exactly. */
 int vbl_free_flight_sample_pattern(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                                    vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
-                                   const double* u_first, int u_first_count, double* t_collision, double* sigma_t_at,
+                                   const double* u, double* t_collision, double* sigma_t_at,
                                    double* per_component, vbl_tracking_visit visit, void* visit_user);
 
 #endif

@@ -207,7 +207,7 @@ static inline int vbl_ctx_free_flight_visit(const vbl_render_context* ctx, vbl_t
  * random numbers and collisions as vbl_ctx_free_flight(_visit). */
 static inline int vbl_ctx_free_flight_pattern(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                               vbl_vec3 direction, double t_max, vbl_rng* rng, const double* u,
-                                              int u_count, double* t_collision, double* sigma_t,
+                                              double* t_collision, double* sigma_t,
                                               double* component_sigma_t, vbl_tracking_visit visit, void* user)
 {
     double t0, t1;
@@ -215,7 +215,7 @@ static inline int vbl_ctx_free_flight_pattern(const vbl_render_context* ctx, vbl
         !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
         return 0;
     return vbl_free_flight_sample_pattern(ctx->extinction, &ts->cursor, origin, direction, t0, t1,
-                                          ctx->tracking.use_global_majorant, rng, u, u_count, t_collision, sigma_t,
+                                          ctx->tracking.use_global_majorant, rng, u, t_collision, sigma_t,
                                           component_sigma_t, visit, user);
 }
 

@@ -39,7 +39,12 @@
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
- * global index (sampling/sobol.h; pair 0, the pixel position, is drawn by the render driver). */
+ * global index (sampling/sobol.h; pair 0, the pixel position, is drawn by the render driver).
+ * With sobol, every segment's free flight takes its first optical depth and its real/null
+ * decisions from a pair (vbl_free_flight_sample_pattern), the light pick is folded into the light
+ * pair and the roulette shares a pair with the lobe/BRDF-component choice; the other numbers
+ * (transmittance estimates, the free flight's later depths, the emission NEE) stay on the stream.
+ * With independent, the stream is consumed exactly as before these pairs existed. */
 typedef struct vbl_pt_dims {
     int sobol;
     uint64_t seed, pixel;
@@ -309,8 +314,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double t = INFINITY, sigma_t = 0.0;
         int collided;
         double u_ff[2]; /* pt.sampler = sobol: the flight's first depth and first real/null decision */
-        const int n_ff = dims.sobol ? 2 : 0;
-        if (n_ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
+        if (dims.sobol) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
         if (scene->has_emission) {
             /* after a scattering event with emission NEE on, this strategy's MIS weight */
             double w = 1.0;
@@ -319,10 +323,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                                    vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
             vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
                                           &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
-            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, u_ff, n_ff, &t, &sigma_t,
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, dims.sobol ? u_ff : NULL, &t, &sigma_t,
                                                    components, vbl_emission_visit, &e);
         } else {
-            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, u_ff, n_ff, &t, &sigma_t,
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, dims.sobol ? u_ff : NULL, &t, &sigma_t,
                                                    components, NULL, NULL);
         }
         double t_limit = collided ? t : t_surface;
