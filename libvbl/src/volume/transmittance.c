@@ -371,7 +371,8 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0, -1.0, -1.0, 1.0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0,
+                      -1.0, -1.0, 1.0};
     int records = 0;
     double t_last = t0, tau = -1.0; /* carried optical depth (vbl_exp_carry_step) */
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

@@ -313,8 +313,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double t_surface = on_surface ? hit.t : INFINITY;
         double t = INFINITY, sigma_t = 0.0;
         int collided;
-        double u_ff[2]; /* pt.sampler = sobol: the flight's first depth and first real/null decision */
-        if (dims.sobol) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
+        double u_ff[2]; /* pt.sampler = sobol: the flight's first depth and its real/null decisions */
+        const double* ff = dims.sobol ? u_ff : NULL;
+        if (ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
         if (scene->has_emission) {
             /* after a scattering event with emission NEE on, this strategy's MIS weight */
             double w = 1.0;
@@ -323,10 +324,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                                    vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
             vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
                                           &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
-            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, dims.sobol ? u_ff : NULL, &t, &sigma_t,
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
                                                    components, vbl_emission_visit, &e);
         } else {
-            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, dims.sobol ? u_ff : NULL, &t, &sigma_t,
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
                                                    components, NULL, NULL);
         }
         double t_limit = collided ? t : t_surface;
