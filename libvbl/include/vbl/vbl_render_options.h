@@ -56,8 +56,8 @@ typedef enum vbl_vsl_path_extension {
     VBL_VSL_PATH_EXTENSION_OFF = 2      /* virtual lights only (w_v = 1; biased near the lights, cheaper) */
 } vbl_vsl_path_extension;
 
-/* pt's random numbers for the pixel position and the light/direction sample dimensions
- * (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+/* pt's random numbers for the pixel position, the light/direction sample dimensions and each
+ * segment's free flight (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
 typedef enum vbl_pt_sampler {
     VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
     VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
@@ -229,7 +229,7 @@ typedef enum vbl_render_option_effect {
       HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
     X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
       0, 1, 0, "independent|sobol", HASH,                                                                    \
-      "pt: independent streams or Owen-scrambled Sobol pairs for the pixel, light and direction samples")   \
+      "pt: independent streams or Owen-scrambled Sobol pairs (pixel, light, direction, free flight)")       \
     X(pt., pt_shadow_transmittance, shadow_transmittance, vbl_pt_shadow_transmittance, ENUM,                 \
       "pt.shadow_transmittance", "--pt-shadow-transmittance", VBL_PT_SHADOW_DEFAULT, 0, 4, 0,                \
       "default|render|residual-mid|unbiased-march|unbiased-march-adaptive", HASH,                            \

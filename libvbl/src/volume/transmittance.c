@@ -56,7 +56,43 @@ typedef struct vbl_tracker {
     void* visit_user;
     double rr;    /* Russian-roulette threshold of the ratio estimators */
     int residual_mid; /* residual tracking's control: 1 the mid-bound, 0 the minorant */
+    /* free flight only (vbl_free_flight_sample_pattern): a caller's uniforms (< 0: none left) for
+     * the first optical depth and for the real/null decisions, recycled from one decision to
+     * the next while u_decide_gain (the remainders' magnification) stays small */
+    double u_depth, u_decide, u_decide_gain;
 } vbl_tracker;
+
+/* Past this magnification of the recycled decision uniform (2^20 of its 53 bits used up), the
+ * stream takes over. */
+#define VBL_DECIDE_GAIN_MAX 1048576.0
+
+/* The uniform of delta tracking's real/null decision with probability p of real: the caller's
+ * while it has one, then the stream. After a null decision the remainder (u - p) / (1 - p) is
+ * uniform on [0, 1) again and independent of everything before given the null outcome, so the
+ * next decision takes it: one stratified uniform decides which tentative collision is the real
+ * one (larger u, a later collision). */
+static inline int vbl_tracker_real(vbl_tracker* tr, double p)
+{
+    if (!(tr->u_decide >= 0.0)) return vbl_rng_uniform(tr->rng) < p;
+    const double u = tr->u_decide;
+    tr->u_decide = -1.0;
+    if (u < p) return 1;
+    if (p < 1.0) {
+        double r = p > 0.0 ? (u - p) / (1.0 - p) : u;
+        tr->u_decide_gain /= 1.0 - (p > 0.0 ? p : 0.0);
+        if (r >= 0.0 && r < 1.0 && tr->u_decide_gain < VBL_DECIDE_GAIN_MAX) tr->u_decide = r;
+    }
+    return 0;
+}
+
+/* The caller's uniform for the next optical depth, if the flight needs one and has it. */
+static inline void vbl_tracker_depth(vbl_tracker* tr, double* tau)
+{
+    if (!(*tau >= 0.0) && tr->u_depth >= 0.0) {
+        *tau = -log1p(-tr->u_depth);
+        tr->u_depth = -1.0;
+    }
+}
 
 /* The roulette threshold of a settings value (0: VBL_RR_THRESHOLD). */
 static inline double vbl_rr_of(double rr) { return rr > 0.0 && rr <= 1.0 ? rr : VBL_RR_THRESHOLD; }
@@ -90,7 +126,7 @@ static int vbl_tracker_event(vbl_tracker* tr, double sigma_t, double mu, double 
 {
     double p = (sigma_t - sigma_c) / mu; /* in [0, 1] for true bounds, [-1, 1] for the mid-bound control */
     if (tr->kind == VBL_TRANSMITTANCE_DELTA_TRACKING) {
-        if (vbl_rng_uniform(tr->rng) < p) {
+        if (vbl_tracker_real(tr, p)) {
             tr->weight = 0.0;
             return VBL_TRACK_STOP;
         }
@@ -131,6 +167,7 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             const double sigma = seg.majorant;
             if (tr->sampling) { /* analytic exponential free flight */
                 double t = seg.t0;
+                vbl_tracker_depth(tr, &tau);
                 if (!vbl_exp_carry_step(&tau, &t, seg.t1, sigma, tr->rng)) continue;
                 tr->t_stop = t;
                 tr->sigma_stop = sigma;
@@ -173,7 +210,10 @@ static int vbl_track(const vbl_extinction* ext, vbl_extinction_cursor* cursor, v
             continue; /* empty (or exactly known) segment: no lookups */
         }
         double t = seg.t0, t_control = seg.t0; /* the late control covers [t_control, t1] */
-        while (vbl_exp_carry_step(&tau, &t, seg.t1, mu, tr->rng)) {
+        for (;;) {
+            /* a pattern's uniform for the next depth (free flight): the same law as the step's own */
+            vbl_tracker_depth(tr, &tau);
+            if (!vbl_exp_carry_step(&tau, &t, seg.t1, mu, tr->rng)) break;
             double sigma_t = vbl_extinction_eval(ext, cursor, vbl_v3_madd(origin, direction, t), per_component);
             if (tr->visit) tr->visit(tr->visit_user, vbl_v3_madd(origin, direction, t), mu, per_component);
             if (vbl_tracker_event(tr, sigma_t, mu, sigma_c) == VBL_TRACK_STOP) {
@@ -285,7 +325,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     case VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING:
     default: {
         vbl_tracker tr = {settings->estimator, 1.0, 0.0, 0.0, rng, 0, settings->majorant_scale, NULL, NULL,
-                          vbl_rr_of(settings->rr_threshold), settings->residual_mid};
+                          vbl_rr_of(settings->rr_threshold), settings->residual_mid, -1.0, -1.0, 1.0};
         if (tr.kind > VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING) tr.kind = VBL_TRANSMITTANCE_RATIO_TRACKING;
         vbl_track(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant, &tr, NULL);
         return tr.weight;
@@ -293,13 +333,15 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     }
 }
 
-int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
-                           vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
-                           double* t_collision, double* sigma_t_at, double* per_component)
+int vbl_free_flight_sample_pattern(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                   vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                                   const double* u, double* t_collision, double* sigma_t_at,
+                                   double* per_component, vbl_tracking_visit visit, void* visit_user)
 {
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, NULL, NULL, VBL_RR_THRESHOLD, 0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD,
+                      0, u ? u[0] : -1.0, u ? u[1] : -1.0, 1.0};
     if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
         return 0;
     if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
@@ -307,19 +349,21 @@ int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cur
     return 1;
 }
 
+int vbl_free_flight_sample(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                           vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                           double* t_collision, double* sigma_t_at, double* per_component)
+{
+    return vbl_free_flight_sample_pattern(ext, cursor, origin, direction, t0, t1, use_global_majorant, rng, NULL,
+                                          t_collision, sigma_t_at, per_component, NULL, NULL);
+}
+
 int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                                  vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
                                  double* t_collision, double* sigma_t_at, double* per_component,
                                  vbl_tracking_visit visit, void* visit_user)
 {
-    double len;
-    if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 0;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_DELTA_TRACKING, 1.0, 0.0, 0.0, rng, 1, 1.0, visit, visit_user, VBL_RR_THRESHOLD, 0};
-    if (vbl_track(ext, cursor, origin, direction, t0, t1, use_global_majorant, &tr, per_component) != VBL_TRACK_STOP)
-        return 0;
-    if (t_collision) *t_collision = fmin(tr.t_stop / len, t1 / len);
-    if (sigma_t_at) *sigma_t_at = tr.sigma_stop;
-    return 1;
+    return vbl_free_flight_sample_pattern(ext, cursor, origin, direction, t0, t1, use_global_majorant, rng, NULL,
+                                          t_collision, sigma_t_at, per_component, visit, visit_user);
 }
 
 /* Internal (transmittance_cache.c): one ratio-tracking pass that reports every tentative point;
@@ -330,7 +374,8 @@ int vbl_ratio_track_record(const vbl_extinction* ext, vbl_extinction_cursor* cur
 {
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
-    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0};
+    vbl_tracker tr = {VBL_TRANSMITTANCE_RATIO_TRACKING, 1.0, 0.0, 0.0, rng, 0, 1.0, NULL, NULL, vbl_rr_of(rr_threshold), 0,
+                      -1.0, -1.0, 1.0};
     int records = 0;
     double t_last = t0, tau = -1.0; /* carried optical depth (vbl_exp_carry_step) */
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);

@@ -87,4 +87,16 @@ int vbl_free_flight_sample_visit(const vbl_extinction* ext, vbl_extinction_curso
                                  double* t_collision, double* sigma_t_at, double* per_component,
                                  vbl_tracking_visit visit, void* visit_user);
 
+/* vbl_free_flight_sample_visit (visit may be NULL) whose first u_first_count uniforms are taken
+ * from u_first instead of rng, in the order the flight consumes them: the exponential optical
+ * depth to the first tentative collision (carried across majorant segments, vbl_exp_carry_step),
+ * then the first real/null decision (u < sigma_t / mu), then the next depth, ...; the rest come
+ * from rng. With u_first uniform on [0, 1)^n the collision law is delta tracking's; a caller's
+ * low-discrepancy pair there stratifies the first tentative collision and whether it is real (pt,
+ * pt.sampler = sobol). u_first NULL or u_first_count 0: vbl_free_flight_sample_visit exactly. */
+int vbl_free_flight_sample_pattern(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
+                                   vbl_vec3 direction, double t0, double t1, int use_global_majorant, vbl_rng* rng,
+                                   const double* u, double* t_collision, double* sigma_t_at,
+                                   double* per_component, vbl_tracking_visit visit, void* visit_user);
+
 #endif

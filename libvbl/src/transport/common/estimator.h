@@ -202,6 +202,23 @@ static inline int vbl_ctx_free_flight_visit(const vbl_render_context* ctx, vbl_t
                                         component_sigma_t, visit, user);
 }
 
+/* vbl_ctx_free_flight_visit (visit may be NULL) whose first u_count uniforms come from u
+ * (vbl_free_flight_sample_pattern: pt's low-discrepancy free-flight pair); u_count 0: the same
+ * random numbers and collisions as vbl_ctx_free_flight(_visit). */
+static inline int vbl_ctx_free_flight_pattern(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                              vbl_vec3 direction, double t_max, vbl_rng* rng, const double* u,
+                                              double* t_collision, double* sigma_t,
+                                              double* component_sigma_t, vbl_tracking_visit visit, void* user)
+{
+    double t0, t1;
+    if (ctx->extinction->count == 0 ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
+        return 0;
+    return vbl_free_flight_sample_pattern(ctx->extinction, &ts->cursor, origin, direction, t0, t1,
+                                          ctx->tracking.use_global_majorant, rng, u, t_collision, sigma_t,
+                                          component_sigma_t, visit, user);
+}
+
 /* vbl_ctx_free_flight on a segment from `ray`'s origin along its direction up to ray->t1 (may be
  * INFINITY; ray->t0 is ignored: the flight starts at 0, clipped to the media's bounds): returns 1
  * with the collision distance *t and the medium there (media/medium.h), 0 if the ray leaves the

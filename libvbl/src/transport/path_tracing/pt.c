@@ -39,14 +39,25 @@
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
- * global index (sampling/sobol.h; pair 0, the pixel position, is drawn by the render driver). */
+ * global index (sampling/sobol.h; pair 0, the pixel position, is drawn by the render driver).
+ * With sobol, every segment's free flight takes its first optical depth and its real/null
+ * decisions from a pair (vbl_free_flight_sample_pattern), the light pick is folded into the light
+ * pair and the roulette shares a pair with the lobe/BRDF-component choice; the other numbers
+ * (transmittance estimates, the free flight's later depths, the emission NEE) stay on the stream.
+ * With independent, the stream is consumed exactly as before these pairs existed. */
 typedef struct vbl_pt_dims {
     int sobol;
     uint64_t seed, pixel;
     uint32_t index;
 } vbl_pt_dims;
 
-enum { VBL_PT_PAIR_LIGHT = 1, VBL_PT_PAIR_EQUIANGULAR = 2, VBL_PT_PAIR_DIRECTION = 3 };
+enum {
+    VBL_PT_PAIR_LIGHT = 1,       /* light pick (folded into u) and the point on the light */
+    VBL_PT_PAIR_EQUIANGULAR = 2, /* the equiangular NEE's light pick and distance */
+    VBL_PT_PAIR_DIRECTION = 3,   /* the phase/BRDF direction */
+    VBL_PT_PAIR_FREE_FLIGHT = 4, /* the segment's first optical depth and first real/null decision */
+    VBL_PT_PAIR_EVENT = 5        /* the lobe/BRDF-component choice and the Russian roulette */
+};
 
 /* Two numbers of `pair` at scattering event `bounce` (0: the camera segment). */
 static void vbl_pt_u2(const vbl_pt_dims* d, uint32_t pair, int bounce, vbl_rng* rng, double* u, double* v)
@@ -138,11 +149,22 @@ static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, const vbl_pt_di
 {
     if (scene->light_count == 0) return 0;
     *select_pdf = 1.0 / scene->light_count;
-    int pick = (int)(vbl_rng_uniform(rng) * scene->light_count);
-    if (pick >= scene->light_count) pick = scene->light_count - 1;
-    if (picked) *picked = &scene->lights[pick];
+    const int n = scene->light_count;
     double u1, u2;
-    vbl_pt_u2(dims, VBL_PT_PAIR_LIGHT, bounce, rng, &u1, &u2);
+    int pick;
+    if (dims->sobol) { /* the pick is u1's leading part, the rest of u1 the light's own (uniform again) */
+        vbl_pt_u2(dims, VBL_PT_PAIR_LIGHT, bounce, rng, &u1, &u2);
+        pick = (int)(u1 * n);
+        if (pick >= n) pick = n - 1;
+        u1 = u1 * n - pick;
+        if (!(u1 < 1.0)) u1 = nextafter(1.0, 0.0);
+        if (!(u1 >= 0.0)) u1 = 0.0;
+    } else {
+        pick = (int)(vbl_rng_uniform(rng) * n);
+        if (pick >= n) pick = n - 1;
+        vbl_pt_u2(dims, VBL_PT_PAIR_LIGHT, bounce, rng, &u1, &u2);
+    }
+    if (picked) *picked = &scene->lights[pick];
     if (!vbl_light_sample_incident(&scene->lights[pick], x, u1, u2, ls)) return 0;
     return vbl_v3_max_component(ls->li) > 0.0;
 }
@@ -299,6 +321,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double t_surface = on_surface ? hit.t : INFINITY;
         double t = INFINITY, sigma_t = 0.0;
         int collided;
+        double u_ff[2]; /* pt.sampler = sobol: the flight's first depth and its real/null decisions */
+        const double* ff = dims.sobol ? u_ff : NULL;
+        if (ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
         if (scene->has_emission) {
             /* after a scattering event with emission NEE on, this strategy's MIS weight */
             double w = 1.0;
@@ -307,10 +332,11 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                                    vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
             vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
                                           &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
-            collided = vbl_ctx_free_flight_visit(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components,
-                                                 vbl_emission_visit, &e);
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
+                                                   components, vbl_emission_visit, &e);
         } else {
-            collided = vbl_ctx_free_flight(ctx, ts, origin, direction, t_surface, rng, &t, &sigma_t, components);
+            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
+                                                   components, NULL, NULL);
         }
         double t_limit = collided ? t : t_surface;
         vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
@@ -333,7 +359,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         vbl_pt_vertex(&path, !collided);
         if (max_bounces >= 0 && path.events > max_bounces) break;
         if (vbl_pt_path_skipped(ctx, &path)) break; /* render.hybrid */
-        double u0, u1, u2;
+        double u0, u1, u2, u_rr = -1.0; /* u_rr < 0: the roulette draws from the stream */
         vbl_vec3 wi;
         double pdf = 0.0;
         if (collided) {
@@ -348,7 +374,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the sigma_s-weighted phase mixture */
-            u0 = vbl_rng_uniform(rng);
+            if (dims.sobol) vbl_pt_u2(&dims, VBL_PT_PAIR_EVENT, path.events, rng, &u0, &u_rr);
+            else u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             if (!vbl_medium_phase_sample(&mp, direction, u0, u1, u2, &wi, &pdf)) break;
             vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
@@ -367,7 +394,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
             const vbl_material* m = &scene->materials[hit.material];
-            u0 = vbl_rng_uniform(rng);
+            if (dims.sobol) vbl_pt_u2(&dims, VBL_PT_PAIR_EVENT, path.events, rng, &u0, &u_rr);
+            else u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             vbl_vec3 f;
             if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
@@ -396,7 +424,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
         if (copies < 0 && path.events >= 3) {
             double q = fmin(1.0, vbl_v3_max_component(beta));
-            if (vbl_rng_uniform(rng) >= q) break;
+            if ((dims.sobol && u_rr >= 0.0 ? u_rr : vbl_rng_uniform(rng)) >= q) break;
             beta = vbl_v3_scale(beta, 1.0 / q);
         }
         prev_pdf = pdf;
