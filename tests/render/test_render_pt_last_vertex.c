@@ -23,7 +23,7 @@
 
 #define W 10
 #define H 8
-#define K 12
+#define K 24
 #define Z_CRIT 4.5
 
 typedef struct last_config {
