@@ -216,6 +216,9 @@ static void test_dense(void** state)
     /* (almost) no black pixels in volume_from_volume where the box is seen */
     o = tt_options(4, 4, 400, 33);
     o.max_bounces = 40;
+    o.vrl.select = 0; /* every VRL, the check's subject (energy reaching every seen pixel); with the
+                       * light tree's 8 draws a camera sample, 16 samples a pixel leave 41 of 63
+                       * pixels black here (variance of the selection, not a loss) */
     vbl_film* f = NULL;
     assert_int_equal(vbl_render_with_estimator(s, &o, &vbl_estimator_vrl, &f), VBL_SUCCESS);
     assert_true(tt_film_finite(f));
