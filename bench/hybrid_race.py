@@ -7,6 +7,7 @@ of the vbl process (pilot included). Interleaved: per scene and seed every confi
 once, in the same order, so load changes hit all of them alike.
 
 usage: /usr/bin/python3 bench/hybrid_race.py BUILD_BIN_VBL OUT_DIR [--resolution 32x32] [--seeds 2]
+       [--scenes race_room,...] [--configs pt,vrl,vrl+auto,vbl,vbl+auto,vpl+auto]
 """
 import argparse
 import json
@@ -23,8 +24,10 @@ SCENES = ["race_room", "race_cloud", "race_spot_smoke"]
 LAYERS = ["beauty", "surface_direct", "surface_from_surface", "surface_from_volume", "volume_direct",
           "volume_from_volume"]
 # (label, method, passes, extra flags)
-CONFIGS = [("pt", "pt", 32, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 4, ["--hybrid", "auto"]),
-           ("vbl+auto", "vbl", 4, ["--hybrid", "auto"]), ("vpl+auto", "vpl", 1, ["--hybrid", "auto"])]
+ALL_CONFIGS = [("pt", "pt", 32, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 4, ["--hybrid", "auto"]),
+               ("vbl", "vbl", 4, []), ("vbl+auto", "vbl", 4, ["--hybrid", "auto"]),
+               ("vpl+auto", "vpl", 1, ["--hybrid", "auto"])]
+CONFIGS = ALL_CONFIGS
 
 
 def run(vbl, scene, out, method, passes, seed, res, extra):
@@ -48,7 +51,11 @@ def main():
     ap.add_argument("--seeds", type=int, default=2)
     ap.add_argument("--ref-passes", type=int, default=64)
     ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--configs", default="pt,vrl,vrl+auto,vbl+auto,vpl+auto",
+                    help="labels of ALL_CONFIGS, the first is the budget (pt)")
     a = ap.parse_args()
+    global CONFIGS
+    CONFIGS = [c for label in a.configs.split(",") for c in ALL_CONFIGS if c[0] == label]
     os.makedirs(a.out, exist_ok=True)
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
     rows = []

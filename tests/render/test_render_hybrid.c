@@ -57,6 +57,56 @@ static void test_combine_partitions_classes(void** state)
     }
 }
 
+/* vbl_hybrid_assign on made-up pilot numbers: class 6 (volume_from_volume) only, P = 4 pilot
+ * passes, 64 pt samples; pt per sample costs 1, the method per pass 10. */
+static unsigned assign_one(double vl_var, double pt_var, double vl_total, double pt_total, double* pt_var_out)
+{
+    vbl_hybrid_pilot_stats st;
+    memset(&st, 0, sizeof st);
+    double vt[VBL_CLASS_COUNT] = {0}, pt[VBL_CLASS_COUNT] = {0}, ve[VBL_CLASS_COUNT] = {0}, pe[VBL_CLASS_COUNT] = {0};
+    const int c = VBL_CLASS_VOLUME_FROM_VOLUME;
+    st.vl_variance[c] = vl_var;
+    st.pt_variance[c] = pt_var;
+    st.vl_cost = 10.0;
+    st.pt_cost = 1.0;
+    vt[c] = vl_total;
+    pt[c] = pt_total;
+    ve[c] = fabs(vl_total);
+    pe[c] = fabs(pt_total);
+    unsigned mask = vbl_hybrid_assign(&st, vt, pt, ve, pe, 4, 64.0);
+    if (pt_var_out) *pt_var_out = st.pt_variance[c];
+    /* the classes without energy follow pt: to pt when it owns volume_from_volume, else nowhere */
+    assert_int_equal(mask, (mask & (1u << c)) ? VBL_HYBRID_ALL_CLASSES : 0u);
+    return mask & (1u << c);
+}
+
+static void test_assign_rules(void** state)
+{
+    (void)state;
+    const unsigned vfv = 1u << VBL_CLASS_VOLUME_FROM_VOLUME;
+    /* variance x cost: pt 5 x 1 against the method's 1 x 10 -> pt; 20 x 1 -> the method */
+    assert_int_equal(assign_one(1.0, 5.0, 1.0, 1.0, NULL), vfv);
+    assert_int_equal(assign_one(1.0, 20.0, 1.0, 1.0, NULL), 0u);
+    /* the method found no light where pt did: pt owns it, whatever the (unseen) variances */
+    assert_int_equal(assign_one(0.0, 100.0, 0.0, 1.0, NULL), vfv);
+    /* and the other way round: pt found none, the method some */
+    assert_int_equal(assign_one(100.0, 0.0, 1.0, 0.0, NULL), 0u);
+    /* a heavy-tailed pt: its pilot variance (1 per sample; pt 1 x 1 against the method's 0.2 x 10)
+     * says it wins. Its total 0.3 below the method's is 1.2 standard errors (sqrt(0.2 / 4 + 1 / 64)
+     * = 0.256): noise, the decision stands */
+    double raised;
+    assert_int_equal(assign_one(0.2, 1.0, 1.0, 0.7, &raised), vfv);
+    assert_true(raised == 1.0);
+    /* 0.9 below (3.5 se): pt missed light; its variance is raised to (d^2 - var(vl total)) x 64
+     * = (0.81 - 0.05) x 64 = 48.6, and the method wins */
+    assert_int_equal(assign_one(0.2, 1.0, 1.0, 0.1, &raised), 0u);
+    assert_true(fabs(raised - (0.81 - 0.2 / 4.0) * 64.0) < 1e-9);
+    /* the method 1.15 below pt (3.2 se): its variance is raised to (1.3225 - 5 / 64) x 4 = 4.98, and
+     * pt (5 x 1 against 49.8) keeps the class that the method's pilot variance (0.2 x 10) would win */
+    assert_int_equal(assign_one(0.2, 5.0, 0.05, 1.2, NULL), vfv);
+    assert_int_equal(assign_one(0.2, 5.0, 1.2, 1.2, NULL), 0u);
+}
+
 static void test_pt_classes_option(void** state)
 {
     (void)state;
@@ -283,6 +333,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_combine_partitions_classes),
+        cmocka_unit_test(test_assign_rules),
         cmocka_unit_test(test_pt_classes_option),
         cmocka_unit_test(test_classes_agree_with_pt),
         cmocka_unit_test(test_auto_agrees_with_pt),

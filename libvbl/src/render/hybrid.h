@@ -23,8 +23,8 @@
 
 /* The pilot's measurements per class (auto mode; zeros otherwise). */
 typedef struct vbl_hybrid_pilot_stats {
-    double pt_variance[VBL_CLASS_COUNT]; /* relative variance of one pt sample (sum over pilot pixels) */
-    double vl_variance[VBL_CLASS_COUNT]; /* relative variance of one method pass (spp samples) */
+    double pt_variance[VBL_CLASS_COUNT]; /* variance of one pt sample (sum over pilot pixels) */
+    double vl_variance[VBL_CLASS_COUNT]; /* variance of one method pass (spp samples), same units */
     double pt_cost, vl_cost;             /* cost units (density lookups, VBL_HYBRID_RAY_COST per ray
                                             cast, VBL_HYBRID_SAMPLE_COST per camera sample) per pt
                                             sample / per method pass of one pixel */
@@ -49,20 +49,40 @@ vbl_result vbl_hybrid_plan_make(const vbl_render_context* ctx, const vbl_estimat
 /* The auto pilot (render/hybrid_pilot.c): VBL_HYBRID_PILOT_PASSES passes of `base` and of pt over
  * a grid of at most VBL_HYBRID_PILOT_GRID^2 pixels, seeds (options.seed ^ VBL_RNG_DOMAIN_HYBRID,
  * pilot pass, pixel) and pilot passes 0 .. P-1 whatever options.first_pass is, so the decision
- * depends only on (scene, options) and never on threads or a split's pass range. Each class goes
- * to the estimator with the smaller relative variance x cost; zero-energy classes go to pt when
- * it renders another class. pt_spp: the optimal split n_pt / n_method = sqrt(B C_vl / (A c_pt))
- * of a fixed cost between two independent estimators of sums A (method) and B (pt), rounded,
- * in [1, VBL_HYBRID_MAX_PT_SPP]. Cost is counted, not timed (density lookups, VBL_HYBRID_RAY_COST
- * per Embree ray cast, vbl_surfaces_ray_count, and VBL_HYBRID_SAMPLE_COST per camera sample), so
- * the decision is deterministic; light tracing (pass_begin) is not counted. */
+ * depends only on (scene, options) and never on threads or a split's pass range. Per class, the
+ * variances are the grid's sums of per-pixel sample variances (absolute, in units of the grid's
+ * squared mean beauty), and vbl_hybrid_assign picks the owners. pt_spp: the optimal split
+ * n_pt / n_method = sqrt(B C_vl / (A c_pt)) of a fixed cost between two independent estimators of
+ * sums A (method) and B (pt), rounded, in [1, VBL_HYBRID_MAX_PT_SPP]. Cost is counted, not timed,
+ * so the decision is deterministic: density lookups, VBL_HYBRID_RAY_COST per Embree ray cast
+ * (vbl_surfaces_ray_count), VBL_HYBRID_SAMPLE_COST per camera sample, and the virtual lights' own
+ * work (core/work_count.h): VBL_HYBRID_TREE_NODE_COST per light-tree node visited,
+ * VBL_HYBRID_LIGHT_EVAL_COST per virtual light evaluated, and VBL_HYBRID_STORE_LIGHT_COST per light
+ * traced into a pass's store, spread over the image's pixels. The weights are in units of about
+ * 0.08 us, fitted to CPU time per pass of pt and vrl on the race scenes (bench/results/
+ * hybrid_s8.txt); within 2x of the measured vrl / pt cost ratio on each. */
 #define VBL_HYBRID_PILOT_PASSES 4
 #define VBL_HYBRID_PILOT_GRID 8
 #define VBL_HYBRID_MAX_PT_SPP 256
 #define VBL_HYBRID_RAY_COST 16.0
 #define VBL_HYBRID_SAMPLE_COST 32.0
+#define VBL_HYBRID_TREE_NODE_COST 0.8
+#define VBL_HYBRID_LIGHT_EVAL_COST 12.0
+#define VBL_HYBRID_STORE_LIGHT_COST 150.0
+#define VBL_HYBRID_DISCREPANCY_Z 3.0
 #define VBL_RNG_DOMAIN_HYBRID 0x4859425249445049ull /* "HYBRIDPI" */
 vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* base, vbl_hybrid_plan* plan);
+
+/* The assignment of the pilot's measurements (pt_classes; bit c: pt owns class c). Per class c:
+ * - an estimator with no energy on the grid (energy[c] = sum |mean|) where the other has some does
+ *   not get the class (nothing of its variance was seen);
+ * - where the two grid totals (sums of the means, in the variances' units) differ by more than
+ *   VBL_HYBRID_DISCREPANCY_Z standard errors, the lower one has missed light in samples the pilot
+ *   did not draw (a heavy tail), and its variance is raised to what the gap implies (st is updated);
+ * - otherwise the smaller variance x cost wins (pt's per sample, the method's per pass).
+ * Classes without energy in either go to pt when pt owns any class. */
+unsigned vbl_hybrid_assign(vbl_hybrid_pilot_stats* st, const double* vl_total, const double* pt_total,
+                           const double* vl_energy, const double* pt_energy, int passes, double pt_samples);
 
 /* One hybrid camera sample's value: the method's classes outside pt_classes plus pt_sum / pt_count
  * in pt_classes (pt_count 0: nothing from pt). Every class comes from exactly one of the two. */

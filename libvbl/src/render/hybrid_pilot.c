@@ -1,11 +1,12 @@
-/* The auto pilot of render.hybrid (hybrid.h, vbl_hybrid_pilot): per class, the relative variance
- * x cost of the virtual-light method and of pt on a small pixel grid, and the assignment. */
+/* The auto pilot of render.hybrid (hybrid.h, vbl_hybrid_pilot): per class, the variance x cost of
+ * the virtual-light method and of pt on a small pixel grid, and the assignment (vbl_hybrid_assign). */
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "core/work_count.h"
 #include "render/hybrid.h"
 #include "transport/path_tracing/pt.h"
 
@@ -14,7 +15,7 @@ typedef struct vbl_pilot_pixel {
     int px, py;
     double vl_sum[VBL_CLASS_COUNT], vl_sq[VBL_CLASS_COUNT]; /* over passes, of the pass mean (luminance-free: R+G+B) */
     double pt_sum[VBL_CLASS_COUNT], pt_sq[VBL_CLASS_COUNT]; /* over single pt samples */
-    uint64_t vl_lookups, pt_lookups;
+    double vl_lookups, pt_lookups;
 } vbl_pilot_pixel;
 
 static double vbl_pilot_value(vbl_vec3 v) { return v.x + v.y + v.z; }
@@ -34,9 +35,47 @@ static void vbl_pilot_camera_sample(const vbl_render_context* ctx, int px, int p
 }
 
 /* The pilot's cost count of this thread: density lookups + VBL_HYBRID_RAY_COST per ray cast. */
-static uint64_t vbl_pilot_lookups(const vbl_thread_state* ts)
+static double vbl_pilot_lookups(const vbl_thread_state* ts)
 {
-    return vbl_extinction_cursor_lookups(&ts->cursor) + (uint64_t)VBL_HYBRID_RAY_COST * vbl_surfaces_ray_count();
+    return (double)vbl_extinction_cursor_lookups(&ts->cursor) + VBL_HYBRID_RAY_COST * (double)vbl_surfaces_ray_count() +
+           VBL_HYBRID_TREE_NODE_COST * (double)vbl_work_count(VBL_WORK_TREE_NODE) +
+           VBL_HYBRID_LIGHT_EVAL_COST * (double)vbl_work_count(VBL_WORK_LIGHT_EVAL);
+}
+
+unsigned vbl_hybrid_assign(vbl_hybrid_pilot_stats* st, const double* vl_total, const double* pt_total,
+                           const double* vl_energy, const double* pt_energy, int passes, double pt_samples)
+{
+    const int P = passes;
+    const double n_pt = pt_samples;
+    /* Both estimators are unbiased, so their grid totals differ only by noise. Where they differ
+     * by more than VBL_HYBRID_DISCREPANCY_Z standard errors (as estimated), the lower one has
+     * missed light that lies in samples the pilot did not draw (a heavy tail: a rare large sample
+     * of a non-negative estimator is what a small sample lacks), so its variance estimate is too
+     * low: it is raised to the variance of its total that the gap implies,
+     * Var(total) >= d^2 - Var(other total), times its number of pilot passes (vl) or samples (pt). */
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+        const double var_v = st->vl_variance[c] / P, var_p = st->pt_variance[c] / n_pt; /* of the totals */
+        const double d = vl_total[c] - pt_total[c];
+        if (!(d * d > VBL_HYBRID_DISCREPANCY_Z * VBL_HYBRID_DISCREPANCY_Z * (var_v + var_p))) continue;
+        if (d > 0.0) st->pt_variance[c] = fmax(st->pt_variance[c], (d * d - var_v) * n_pt);
+        else st->vl_variance[c] = fmax(st->vl_variance[c], (d * d - var_p) * P);
+    }
+    unsigned mask = 0;
+    for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+        /* an estimator that found no light in a class where the other did has shown none of its
+         * variance there (its light lies in samples the pilot did not draw): the other takes it */
+        if (!(vl_energy[c] > 0.0)) {
+            if (pt_energy[c] > 0.0) mask |= 1u << c;
+            continue;
+        }
+        if (!(pt_energy[c] > 0.0)) continue;
+        if (st->pt_variance[c] * st->pt_cost < st->vl_variance[c] * st->vl_cost)
+            mask |= 1u << c;
+    }
+    if (mask) /* classes without energy in the pilot cost pt nothing more */
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c)
+            if (!(vl_energy[c] > 0.0) && !(pt_energy[c] > 0.0)) mask |= 1u << c;
+    return mask;
 }
 
 vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* base, vbl_hybrid_plan* plan)
@@ -60,10 +99,13 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
     pc.skip_classes = 0;
     pc.hybrid = NULL;
     vbl_result r = VBL_SUCCESS;
+    uint64_t store_lights = 0; /* lights traced into the pilot passes' stores (core/work_count.h) */
     for (int p = 0; p < P && !r; ++p) {
         pc.pass = (uint32_t)p;
         void* store = NULL;
+        const uint64_t w0 = vbl_work_count(VBL_WORK_STORE_LIGHT);
         if ((r = base->pass_begin(&pc, &store))) break;
+        store_lights += vbl_work_count(VBL_WORK_STORE_LIGHT) - w0;
 #pragma omp parallel num_threads(ctx->threads)
         {
             vbl_thread_state ts;
@@ -77,7 +119,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
                 vbl_camera_sample cs;
                 double mean[VBL_CLASS_COUNT] = {0};
                 vbl_rng rng = vbl_rng_make(pc.options.seed, (uint64_t)p, pixel);
-                uint64_t l0 = vbl_pilot_lookups(&ts);
+                double l0 = vbl_pilot_lookups(&ts);
                 for (int s = 0; s < spp; ++s) {
                     vbl_sample_value v;
                     memset(&v, 0, sizeof v);
@@ -85,7 +127,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
                     base->camera_sample(&pc, store, &ts, &cs, &rng, &v);
                     for (int c = 0; c < VBL_CLASS_COUNT; ++c) mean[c] += vbl_pilot_value(v.L[c]) / spp;
                 }
-                uint64_t l1 = vbl_pilot_lookups(&ts);
+                double l1 = vbl_pilot_lookups(&ts);
                 q->vl_lookups += l1 - l0;
                 for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
                     q->vl_sum[c] += mean[c];
@@ -113,43 +155,45 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
         free(px);
         return r;
     }
-    /* per pixel: relative variances (by the squared mean beauty of both estimators, floored at
-     * 1e-3 of the grid's mean beauty so that black pixels do not dominate) */
+    /* Per class, the sum over the grid of each pixel's variance, in units of the grid's squared mean
+     * beauty. Absolute, not per-pixel relative, variances: the error that counts is the image's
+     * (rMAE sums absolute errors over pixels), and the plain sum of sample variances is an unbiased
+     * estimate of the sum of variances even where an estimator's variance lies in rare large
+     * samples that miss most pixels (a per-pixel sigma or relative variance is then biased low
+     * where no rare sample fell). */
     const double n_pt = (double)P * spp;
     double grid_mean = 0.0;
     for (int k = 0; k < count; ++k)
         for (int c = 0; c < VBL_CLASS_COUNT; ++c) grid_mean += 0.5 * (px[k].vl_sum[c] / P + px[k].pt_sum[c] / n_pt);
     grid_mean /= count;
-    const double floor2 = (1e-3 * grid_mean) * (1e-3 * grid_mean) + 1e-300;
+    const double norm = grid_mean * grid_mean + 1e-300;
     vbl_hybrid_pilot_stats* st = &plan->pilot;
     memset(st, 0, sizeof *st);
-    double energy[VBL_CLASS_COUNT] = {0};
-    uint64_t vl_lookups = 0, pt_lookups = 0;
+    double vl_energy[VBL_CLASS_COUNT] = {0}, pt_energy[VBL_CLASS_COUNT] = {0};
+    double vl_total[VBL_CLASS_COUNT] = {0}, pt_total[VBL_CLASS_COUNT] = {0}; /* grid sums of the means */
+    double vl_lookups = 0, pt_lookups = 0;
     for (int k = 0; k < count; ++k) { /* in pixel order: the same sums at any thread count */
         const vbl_pilot_pixel* q = &px[k];
-        double b = 0.0;
-        for (int c = 0; c < VBL_CLASS_COUNT; ++c) b += 0.5 * (q->vl_sum[c] / P + q->pt_sum[c] / n_pt);
-        const double norm = b * b + floor2;
         for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
             double mv = q->vl_sum[c] / P, mp = q->pt_sum[c] / n_pt;
             double vv = fmax(0.0, (q->vl_sq[c] - P * mv * mv) / (P - 1));
             double vp = fmax(0.0, (q->pt_sq[c] - n_pt * mp * mp) / (n_pt - 1));
             st->vl_variance[c] += vv / norm;
             st->pt_variance[c] += vp / norm;
-            energy[c] += fabs(mv) + fabs(mp);
+            vl_energy[c] += fabs(mv);
+            pt_energy[c] += fabs(mp);
+            vl_total[c] += mv / grid_mean;
+            pt_total[c] += mp / grid_mean;
         }
         vl_lookups += q->vl_lookups;
         pt_lookups += q->pt_lookups;
     }
     free(px);
-    st->vl_cost = (double)vl_lookups / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp;
-    st->pt_cost = (double)pt_lookups / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
-    unsigned mask = 0;
-    for (int c = 0; c < VBL_CLASS_COUNT; ++c)
-        if (energy[c] > 0.0 && st->pt_variance[c] * st->pt_cost < st->vl_variance[c] * st->vl_cost) mask |= 1u << c;
-    if (mask) /* classes without energy in the pilot cost pt nothing more */
-        for (int c = 0; c < VBL_CLASS_COUNT; ++c)
-            if (!(energy[c] > 0.0)) mask |= 1u << c;
+    /* a pass's store (light tracing, tree build) is shared by every pixel of the image */
+    st->vl_cost = vl_lookups / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp +
+                  VBL_HYBRID_STORE_LIGHT_COST * (double)store_lights / ((double)P * W * H);
+    st->pt_cost = pt_lookups / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
+    const unsigned mask = vbl_hybrid_assign(st, vl_total, pt_total, vl_energy, pt_energy, P, n_pt);
     double A = 0.0, B = 0.0;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
         if (mask & (1u << c)) B += st->pt_variance[c];

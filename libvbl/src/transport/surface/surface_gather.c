@@ -6,6 +6,7 @@
 
 #include "transport/surface/blue_noise/gather.h"
 #include "transport/surface/blue_noise/prepare.h"
+#include "core/work_count.h"
 #include "core/error.h"
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
@@ -431,6 +432,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
     lobes.count = 0;
     if (gs->vrls && scene->media_count > 1) vbl_medium_point_scene(scene, &lobes);
     if (gs->vrls && want_volume) {
+        vbl_work_add(VBL_WORK_LIGHT_EVAL, photons->vrl_count);
         for (size_t j = 0; j < photons->vrl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vrl* l = &photons->vrls[j];
@@ -457,6 +459,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
         }
     }
     if (gs->vpls && want_volume) {
+        vbl_work_add(VBL_WORK_LIGHT_EVAL, photons->vpl_count);
         for (size_t j = 0; j < photons->vpl_count; ++j) {
             if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
             const vbl_vpl* p = &photons->vpls[j];
@@ -498,6 +501,7 @@ void vbl_surface_gather_hit(const vbl_render_context* ctx, vbl_thread_state* ts,
             vbl_v3_madd(out->L[VBL_CLASS_SURFACE_FROM_SURFACE], from_surface, tcam);
         return;
     }
+    vbl_work_add(VBL_WORK_LIGHT_EVAL, photons->surface_vsl_count);
     if (gs->vsl_radius > 0.0) {
         /* K_R is evaluated about x; visibility runs from the VSL (offset off its surface) to x */
         for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
@@ -557,6 +561,7 @@ void vbl_surface_gather_segment(const vbl_render_context* ctx, vbl_thread_state*
     gather_cb cb = {.ctx = ctx, .ts = ts, .rng = rng, .photons = photons, .cache = cache};
     const vbl_segment camera = {o, d, u0, u1};
     vbl_vec3 sum = vbl_v3(0.0, 0.0, 0.0);
+    vbl_work_add(VBL_WORK_LIGHT_EVAL, photons->surface_vsl_count);
     for (size_t j = 0; j < photons->surface_vsl_count; ++j) {
         const vbl_surface_vsl v = photons->surface_vsls[j];
         double xi = vbl_rng_uniform(rng);

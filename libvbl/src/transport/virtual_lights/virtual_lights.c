@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/work_count.h"
 #include "media/medium.h"
 #include "sampling/step_pdf.h"
 #include "transport/common/emission_estimate.h"
@@ -122,6 +123,8 @@ vbl_result vbl_vl_pass_begin(const vbl_render_context* ctx, const vbl_vl_kernel*
         free(s);
         return r;
     }
+    /* the cost model's count of the pass's store (core/work_count.h; the hybrid pilot reads it) */
+    vbl_work_add(VBL_WORK_STORE_LIGHT, s->photons.vrl_count + s->photons.vpl_count + s->photons.surface_vsl_count);
     if (kernel->after_trace) r = kernel->after_trace(ctx, s);
     if (!r && s->select > 0) r = vbl_vrl_select_tree_build(ctx, &s->photons, &s->tree);
     if (r || (r = vbl_surface_gather_blue_noise_begin(ctx, &s->gather))) { /* render.vsl_placement */
@@ -168,6 +171,7 @@ int vbl_vl_camera_cache(const vbl_render_context* ctx, const void* store, vbl_th
 static void vbl_vl_visit_piece(const vbl_vrl_tree_piece* pc, double weight, void* user)
 {
     const vbl_vl_gather* g = user;
+    vbl_work_add(VBL_WORK_LIGHT_EVAL, 1);
     g->s->kernel->estimate(g, (size_t)pc->vrl, pc->v0, pc->v1, weight);
 }
 
@@ -195,6 +199,7 @@ static void vbl_vl_gather_lights(const vbl_vl_gather* g)
         return;
     }
     const size_t n = k->points ? s->photons.vpl_count : s->photons.vrl_count;
+    vbl_work_add(VBL_WORK_LIGHT_EVAL, n);
     for (size_t j = 0; j < n; ++j) {
         if (j % VBL_STOP_CHECK_EVERY == VBL_STOP_CHECK_EVERY - 1 && vbl_render_stop_requested(ctx)) break;
         if (k->points) {

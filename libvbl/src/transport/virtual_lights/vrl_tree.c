@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "core/rng.h"
+#include "core/work_count.h"
 #include "transport/common/photon_trace.h"
 #include "volume/transmittance_cache.h"
 
@@ -199,6 +200,7 @@ static double vbl_node_importance(const vbl_vrl_tree* tree, const vbl_vrl_tree_q
 {
     const vbl_vrl_tree_node* n = &tree->nodes[id];
     double s, h, front;
+    vbl_work_add(VBL_WORK_TREE_NODE, 1);
     if (n->left < 0) { /* leaf: the piece itself */
         const vbl_vrl_tree_piece* pc0 = &tree->pieces[n->right];
         const vbl_vrl* l = &tree->vrls[pc0->vrl];
