@@ -24,8 +24,8 @@ SCENES = ["race_room", "race_cloud", "race_spot_smoke"]
 LAYERS = ["beauty", "surface_direct", "surface_from_surface", "surface_from_volume", "volume_direct",
           "volume_from_volume"]
 # (label, method, passes, extra flags)
-ALL_CONFIGS = [("pt", "pt", 32, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 4, ["--hybrid", "auto"]),
-               ("vbl", "vbl", 4, []), ("vbl+auto", "vbl", 4, ["--hybrid", "auto"]),
+ALL_CONFIGS = [("pt", "pt", 32, []), ("vrl", "vrl", 4, []), ("vrl+auto", "vrl", 16, ["--hybrid", "auto"]),
+               ("vbl", "vbl", 4, []), ("vbl+auto", "vbl", 16, ["--hybrid", "auto"]),
                ("vpl+auto", "vpl", 1, ["--hybrid", "auto"])]
 CONFIGS = ALL_CONFIGS
 

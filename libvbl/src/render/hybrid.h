@@ -79,7 +79,11 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
  * - where the two grid totals (sums of the means, in the variances' units) differ by more than
  *   VBL_HYBRID_DISCREPANCY_Z standard errors, the lower one has missed light in samples the pilot
  *   did not draw (a heavy tail), and its variance is raised to what the gap implies (st is updated);
- * - otherwise the smaller variance x cost wins (pt's per sample, the method's per pass).
+ * - the other classes are assigned so that the sum of the classes' variances at a fixed cost, with
+ *   the optimal split of that cost (pt_spp), is least: (sqrt(A C_vl) + sqrt(B c_pt))^2 over all
+ *   assignments, A the method's classes' variance per pass, B pt's per sample; an estimator that
+ *   owns no class costs nothing. So a class goes to pt only if pt's samples pay for themselves
+ *   next to the method's pass, which runs anyway while the method owns anything.
  * Classes without energy in either go to pt when pt owns any class. */
 unsigned vbl_hybrid_assign(vbl_hybrid_pilot_stats* st, const double* vl_total, const double* pt_total,
                            const double* vl_energy, const double* pt_energy, int passes, double pt_samples);

@@ -60,21 +60,39 @@ unsigned vbl_hybrid_assign(vbl_hybrid_pilot_stats* st, const double* vl_total, c
         if (d > 0.0) st->pt_variance[c] = fmax(st->pt_variance[c], (d * d - var_v) * n_pt);
         else st->vl_variance[c] = fmax(st->vl_variance[c], (d * d - var_p) * P);
     }
-    unsigned mask = 0;
+    /* classes an estimator must or cannot own: one that found no light where the other did has
+     * shown none of its variance there (its light lies in samples the pilot did not draw) */
+    unsigned forced_pt = 0, forced_vl = 0, empty = 0;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
-        /* an estimator that found no light in a class where the other did has shown none of its
-         * variance there (its light lies in samples the pilot did not draw): the other takes it */
-        if (!(vl_energy[c] > 0.0)) {
-            if (pt_energy[c] > 0.0) mask |= 1u << c;
-            continue;
-        }
-        if (!(pt_energy[c] > 0.0)) continue;
-        if (st->pt_variance[c] * st->pt_cost < st->vl_variance[c] * st->vl_cost)
-            mask |= 1u << c;
+        const int v = vl_energy[c] > 0.0, p = pt_energy[c] > 0.0;
+        if (!v && p) forced_pt |= 1u << c;
+        else if (v && !p) forced_vl |= 1u << c;
+        else if (!v && !p) empty |= 1u << c;
     }
+    /* every assignment of the other classes: the smallest total variance at a fixed cost with the
+     * optimal split of that cost between the two (A / n_vl + B / n_pt at n_vl C_vl + n_pt c_pt = T
+     * is least at (sqrt(A C_vl) + sqrt(B c_pt))^2 / T); an estimator that owns no class costs
+     * nothing (the method's pass is skipped when pt owns every class) */
+    unsigned best = 0;
+    double best_score = INFINITY;
+    for (unsigned mask = 0; mask <= VBL_HYBRID_ALL_CLASSES; ++mask) {
+        if ((mask & forced_pt) != forced_pt || (mask & forced_vl) || (mask & empty)) continue;
+        double A = 0.0, B = 0.0;
+        for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
+            if (mask & (1u << c)) B += st->pt_variance[c];
+            else A += st->vl_variance[c];
+        }
+        const unsigned owned_vl = VBL_HYBRID_ALL_CLASSES & ~mask & ~empty;
+        const double a = owned_vl ? sqrt(A * st->vl_cost) : 0.0, b = mask ? sqrt(B * st->pt_cost) : 0.0;
+        const double score = (a + b) * (a + b);
+        if (score < best_score) { /* strict: of equal scores the first (fewest pt classes) */
+            best_score = score;
+            best = mask;
+        }
+    }
+    unsigned mask = best;
     if (mask) /* classes without energy in the pilot cost pt nothing more */
-        for (int c = 0; c < VBL_CLASS_COUNT; ++c)
-            if (!(vl_energy[c] > 0.0) && !(pt_energy[c] > 0.0)) mask |= 1u << c;
+        mask |= empty;
     return mask;
 }
 
