@@ -13,8 +13,12 @@ Both are moved to `ind`'s CPU time by the 1/sqrt(t) law (score.equal_time_rmae):
 `ind` is then the error ratio at equal CPU (below 1: better). CPU = user + system of the vbl
 process, 1 thread.
 
+With OLD_DIR == NEW_DIR (one build) only two configurations run, `ind` and `sobol`, and the table
+gives sobol/ind at equal CPU with its seed spread (the two means' relative standard errors combined
+in quadrature).
+
 usage: /usr/bin/python3 bench/sobol_ff_race.py OLD_DIR NEW_DIR OUT_DIR [--resolution 64x64]
-       [--seeds 6] [--spp 16,64] [--ref-spp 1024] [--scenes race_cloud,...]
+       [--seeds 6] [--spp 16,64] [--ref-spp 1024] [--ref-threads 2] [--scenes race_cloud,...]
 """
 import argparse
 import os
@@ -45,6 +49,31 @@ def run(bindir, scene, out, samples, seed, res, sampler, threads=1):
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def print_two(layers, ref, floor, cpu, err, imgs, seeds):
+    c_ind = float(np.mean(cpu["ind"]))
+    print("| layer | ref floor | ind rMAE (+-se) | sobol rMAE (+-se) | sobol/ind rMAE at equal CPU | "
+          "sobol/ind seed-spread RMSE at equal CPU |")
+    print("|---|---|---|---|---|---|")
+    for l in layers:
+        mean_ref = float(np.abs(ref[l]).mean())
+        m, at, rel, se = {}, {}, {}, {}
+        for label in ("ind", "sobol"):
+            e = np.array(err[label][l])
+            m[label] = float(np.sqrt(max(np.mean(e) ** 2 - floor[l] ** 2, 0.0)))
+            # relative standard error of the floor-corrected mean (d m / d mean(e) = mean(e) / m)
+            se[label] = float(np.std(e, ddof=1) / np.sqrt(seeds) * np.mean(e) / max(m[label], 1e-30) ** 2)
+            c = float(np.mean(cpu[label]))
+            at[label] = score.equal_time_rmae(m[label], c, c_ind)
+            var = np.var(np.stack(imgs[label][l]), axis=0, ddof=1)
+            rel[label] = score.equal_time_rmae(float(np.sqrt(var.mean())) / mean_ref, c, c_ind)
+        r = at["sobol"] / max(at["ind"], 1e-30)
+        print(f"| {l} | {floor[l]:.4f} | {m['ind']:.4f} (+-{100 * se['ind']:.0f}%) | {m['sobol']:.4f} "
+              f"(+-{100 * se['sobol']:.0f}%) | {r:.3f} +- {r * np.hypot(se['ind'], se['sobol']):.3f} | "
+              f"{rel['sobol'] / max(rel['ind'], 1e-30):.3f} |")
+    print("cpu s (mean over seeds): " + ", ".join(f"{k} {np.mean(v):.2f} (+-{np.std(v):.2f})"
+                                                    for k, v in cpu.items()), flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("old")
@@ -59,7 +88,10 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes")
+    one = os.path.realpath(a.old) == os.path.realpath(a.new)
     configs = [("ind", a.old, "independent"), ("sobol_old", a.old, "sobol"), ("sobol_new", a.new, "sobol")]
+    if one:
+        configs = [("ind", a.old, "independent"), ("sobol", a.old, "sobol")]
     for name in a.scenes.split(","):
         scene = os.path.join(here, name + ".json")
         halves = []
@@ -83,13 +115,16 @@ def main():
                     for l in layers:
                         err[label][l].append(score.rmae(img[l], ref[l]))
                         imgs[label][l].append(img[l])
-                if seed == 1:
+                if seed == 1 and not one:
                     out = os.path.join(a.out, f"{name}_{samples}_ind_new_{seed}.exr")
                     run(a.new, scene, out, samples, seed, a.resolution, "independent")
                     same = all(np.array_equal(score.read_vbl_layers(out)[l], imgs["ind"][l][0]) for l in layers)
                     print(f"# {name} {samples} spp: new binary's independent sampling bit-identical to old: {same}")
             c_ind = float(np.mean(cpu["ind"]))
             print(f"\n## {name}, {a.resolution}, {samples} spp, {a.seeds} seeds, reference 2 x {a.ref_spp} spp")
+            if one:
+                print_two(layers, ref, floor, cpu, err, imgs, a.seeds)
+                continue
             print("| layer | ref floor | ind rMAE | sobol_old rMAE | sobol_new rMAE | old/ind at equal CPU | "
                   "new/ind at equal CPU | new/old at equal CPU | RMSE new/ind at equal CPU | RMSE old/ind |")
             print("|---|---|---|---|---|---|---|---|---|---|")
