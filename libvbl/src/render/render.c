@@ -247,6 +247,11 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     ctx.options = *options;
     ctx.options.size = sizeof(vbl_render_options);
     ctx.options.light_paths = vbl_render_light_paths(scene, options); /* 0: the method's default */
+    /* pt.sampler is method pt's (its Sobol pattern was measured there, and starts with the pixel
+     * position, which only pt's camera samples take from it): the pt paths other methods trace for
+     * some classes (pt_camera_classes.h, surface_gather.c's path extension, which may run several
+     * times per camera sample and would reuse its Sobol points) keep independent streams */
+    if (est->camera_sample != vbl_pt_camera_sample) ctx.options.pt.sampler = VBL_PT_SAMPLER_INDEPENDENT;
     ctx.tracking.estimator = vbl_uncached(options->transmittance);
     ctx.tracking.march_step = 0.0;
     ctx.tracking.use_global_majorant = 0;
