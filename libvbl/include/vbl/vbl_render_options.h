@@ -57,7 +57,9 @@ typedef enum vbl_vsl_path_extension {
 } vbl_vsl_path_extension;
 
 /* pt's random numbers for the pixel position, the light/direction sample dimensions and each
- * segment's free flight (render.pt.sampler; docs/readme/render.md "Low-discrepancy sampling"). */
+ * segment's free flight (render.pt.sampler, default sobol since session 8; method pt only: the pt
+ * paths inside other methods use independent streams; docs/readme/render.md "Low-discrepancy
+ * sampling"). */
 typedef enum vbl_pt_sampler {
     VBL_PT_SAMPLER_INDEPENDENT = 0, /* independent PCG streams per (seed, pass, pixel) */
     VBL_PT_SAMPLER_SOBOL = 1        /* Owen-scrambled Sobol pairs per (seed, pixel), by global sample index */
@@ -227,7 +229,7 @@ typedef enum vbl_render_option_effect {
 #define VBL_RENDER_OPTIONS_PT(X, F)                                                                          \
     X(pt., pt_equiangular, equiangular, int, BOOL, "pt.equiangular", "--pt-equiangular", 1, 0, 1, 0, NULL,   \
       HASH, "pt: equiangular NEE towards point/spot lights on every segment, MIS with the collision's NEE")   \
-    X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_INDEPENDENT, \
+    X(pt., pt_sampler, sampler, vbl_pt_sampler, ENUM, "pt.sampler", "--pt-sampler", VBL_PT_SAMPLER_SOBOL,    \
       0, 1, 0, "independent|sobol", HASH,                                                                    \
       "pt: independent streams or Owen-scrambled Sobol pairs (pixel, light, direction, free flight)")       \
     X(pt., pt_shadow_transmittance, shadow_transmittance, vbl_pt_shadow_transmittance, ENUM,                 \
