@@ -295,8 +295,10 @@ static void test_scene_block(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_true(o.beams.radius0 == 0.0 && o.beams.alpha == 0.0 && o.beam_lights.single_scattering == 0);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.method, VBL_RENDER_BEAMS);
     assert_true(o.beams.radius0 == 0.125 && o.beams.alpha == 0.75 && o.beam_lights.single_scattering == 2);
     vbl_scene_release(scene);
@@ -304,6 +306,7 @@ static void test_scene_block(void** state)
                   path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.beam_lights.single_scattering, 1);
     vbl_scene_release(scene);
     expect_scene_error(dir, "{\"beams\": {\"alpha\": 1}}", "render.beams.alpha = 1 is outside (0, 1)");

@@ -40,6 +40,7 @@ static vbl_film* render_range(const vbl_scene* scene, vbl_render_method method, 
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.first_pass = first;
     o.passes = passes;
@@ -135,6 +136,7 @@ static void test_resume_equals_single_render(void** state)
     vbl_film* checkpoint = render_range(scene, VBL_RENDER_PT, 0, 1);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.threads = 2;
     vbl_film* resumed = NULL;
     assert_int_equal(vbl_render_resume(scene, &o, checkpoint, &resumed), VBL_SUCCESS);
@@ -173,6 +175,7 @@ static void test_merge_refusals(void** state)
     assert_null(out);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.first_pass = 2;
     o.passes = 1;
     o.seed = 99;

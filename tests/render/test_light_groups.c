@@ -57,6 +57,7 @@ static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int gr
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.light_groups = groups;
     o.seed = seed;
@@ -183,6 +184,7 @@ static void test_groups_merge(void** state)
     vbl_scene_release(all_tagged);
     /* a time limit would end the groups at different pass counts: refused */
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.light_groups = 1;
     o.time_limit = 5.0;
     vbl_film* none = NULL;

@@ -197,6 +197,7 @@ enum { METHODS = 5 };
 static vbl_render_options options(vbl_render_method method, int passes, int spp, uint64_t seed, int threads)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.spp = spp;

@@ -41,6 +41,7 @@ static void test_defaults(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vrl.samples, 1);
     assert_int_equal(o.vrl.long_vrls, 0);
     assert_int_equal(o.vrl.connect, 0);
@@ -52,6 +53,7 @@ static void test_defaults(void** state)
     memset(&o, 0, sizeof o);
     o.size = sizeof o;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vrl.samples, 1);
     assert_true(o.vrl.prune_min_probability == 0.1);
     vbl_scene_release(scene);
@@ -70,6 +72,7 @@ static void test_parse_fields(void** state)
                      VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.method, VBL_RENDER_VRL);
     assert_int_equal(o.light_paths, 50);
     assert_int_equal(o.vrl.samples, 3);
@@ -87,6 +90,7 @@ static void test_parse_fields(void** state)
                      VBL_SUCCESS);
     o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vrl.long_vrls, 0);
     assert_int_equal(o.vrl.connect, 0);
     assert_int_equal(o.vrl.samples, 1);
@@ -121,6 +125,7 @@ static void test_render_validates(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(load_text("v.json", "{" CAMERA "}", &scene), VBL_SUCCESS);
     vbl_render_options base = VBL_RENDER_OPTIONS_DEFAULT;
+    base.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     base.passes = 1;
     base.spp = 1;
     base.threads = 1;
@@ -160,6 +165,7 @@ static void test_light_paths_method_default(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.light_paths, 0);
     const struct {
         vbl_render_method method;
@@ -231,7 +237,7 @@ static void test_vrl_select_hash(void** state)
     assert_string_equal(h, pt_default);
     const vbl_render_method methods[] = {VBL_RENDER_VRL, VBL_RENDER_VBL};
     for (int m = 0; m < 2; ++m) {
-        o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT;
+        o = (vbl_render_options)VBL_RENDER_OPTIONS_DEFAULT; /* hybrid auto: hashed as its default */
         o.method = methods[m];
         vbl_render_options_hash(&o, h, sizeof h);
         o.vrl.select = 0;

@@ -111,7 +111,7 @@ static void test_pt_classes_option(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-    assert_int_equal(o.hybrid, VBL_HYBRID_OFF);
+    assert_int_equal(o.hybrid, VBL_HYBRID_AUTO);
     assert_int_equal(vbl_render_option_set_strict(&o, "hybrid_pt_classes", "surface_direct,volume_from_volume"),
                      VBL_SUCCESS);
     assert_int_equal(o.hybrid_pt_classes, (1 << VBL_CLASS_SURFACE_DIRECT) | (1 << VBL_CLASS_VOLUME_FROM_VOLUME));
@@ -312,16 +312,47 @@ static void test_split_merge_equals_single(void** state)
     vbl_scene_release(scene);
 }
 
-static void test_pt_method_refuses_hybrid(void** state)
+/* auto is the default: a virtual-light render runs the pilot and records its plan; pt renders it as
+ * off (the same image and options hash as with off); classes with pt is still an error. */
+static void test_auto_default_and_pt(void** state)
 {
     (void)state;
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(scene_path, &scene), VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
-    o.method = VBL_RENDER_PT;
-    o.hybrid = VBL_HYBRID_AUTO;
+    assert_int_equal(o.hybrid, VBL_HYBRID_AUTO);
     o.passes = 1;
+    o.threads = 1;
     vbl_film* film = NULL;
+    o.method = VBL_RENDER_VRL;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_SUCCESS);
+    assert_int_equal(stats_of(film).hybrid, VBL_HYBRID_AUTO);
+    vbl_film_release(film);
+    /* pt: auto renders as off */
+    char h_auto[64], h_off[64];
+    o.method = VBL_RENDER_PT;
+    vbl_render_options_hash(&o, h_auto, sizeof h_auto);
+    vbl_film* pt_auto = NULL;
+    assert_int_equal(vbl_render(scene, &o, &pt_auto), VBL_SUCCESS);
+    assert_int_equal(stats_of(pt_auto).hybrid, VBL_HYBRID_OFF);
+    o.hybrid = VBL_HYBRID_OFF;
+    vbl_render_options_hash(&o, h_off, sizeof h_off);
+    assert_string_equal(h_auto, h_off);
+    vbl_film* pt_off = NULL;
+    assert_int_equal(vbl_render(scene, &o, &pt_off), VBL_SUCCESS);
+    expect_films_identical(pt_auto, pt_off);
+    vbl_film_release(pt_auto);
+    vbl_film_release(pt_off);
+    /* a virtual-light method: auto and off hash differently (films of the two do not merge) */
+    o.method = VBL_RENDER_VRL;
+    vbl_render_options_hash(&o, h_off, sizeof h_off);
+    o.hybrid = VBL_HYBRID_AUTO;
+    vbl_render_options_hash(&o, h_auto, sizeof h_auto);
+    assert_string_not_equal(h_auto, h_off);
+    /* classes with pt: refused */
+    o.method = VBL_RENDER_PT;
+    o.hybrid = VBL_HYBRID_CLASSES;
+    film = NULL;
     assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INVALID_ARGUMENT);
     assert_null(film);
     assert_non_null(strstr(vbl_last_error_message(), "hybrid"));
@@ -339,7 +370,7 @@ int main(void)
         cmocka_unit_test(test_auto_agrees_with_pt),
         cmocka_unit_test(test_threads_and_plan_deterministic),
         cmocka_unit_test(test_split_merge_equals_single),
-        cmocka_unit_test(test_pt_method_refuses_hybrid),
+        cmocka_unit_test(test_auto_default_and_pt),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

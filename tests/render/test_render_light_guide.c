@@ -32,6 +32,7 @@ static vbl_render_options guide_options(vbl_render_method method, int guide, int
                                         uint64_t seed, int threads)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.first_pass = first_pass;

@@ -66,6 +66,7 @@ static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int pa
                         int threads)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.spp = spp;
@@ -229,6 +230,7 @@ static void test_albedo_pt_vs_vrl(void** state)
     }
     /* methods that do not read albedo grids refuse them */
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = VBL_RENDER_VPL;
     o.passes = 1;
     vbl_film* film = NULL;
@@ -430,6 +432,7 @@ static void test_motion_identity_and_determinism(void** state)
     assert_true(films_equal(m1, m2));
     assert_false(films_equal(a, m1));
     vbl_render_options ov = VBL_RENDER_OPTIONS_DEFAULT;
+    ov.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     ov.method = VBL_RENDER_VRL;
     ov.passes = 1;
     vbl_film* f = NULL;

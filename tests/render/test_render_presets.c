@@ -21,6 +21,7 @@ static void test_unknown_and_bad_arguments(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     vbl_render_options before = o;
     assert_int_equal(vbl_render_options_apply_preset("ultra", &o), VBL_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(vbl_last_error_message(), "'ultra'"));
@@ -41,6 +42,7 @@ static void test_each_preset_sets_settings(void** state)
     double cost[PRESET_COUNT];
     for (int i = 0; i < PRESET_COUNT; ++i) {
         vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+        o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
         /* values no preset uses, to see that the preset overwrote them */
         o.method = (vbl_render_method)99;
         o.passes = -5;
@@ -81,6 +83,7 @@ static void test_overrides_after_preset_win(void** state)
     (void)state;
     for (int i = 0; i < PRESET_COUNT; ++i) {
         vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+        o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
         assert_int_equal(vbl_render_options_apply_preset(presets[i], &o), VBL_SUCCESS);
         vbl_render_options preset = o;
         o.passes = preset.passes + 3;
@@ -109,6 +112,7 @@ static void test_preset_options_render(void** state)
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     for (int i = 0; i < PRESET_COUNT; ++i) {
         vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+        o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
         assert_int_equal(vbl_render_options_apply_preset(presets[i], &o), VBL_SUCCESS);
         o.passes = 2; /* an override after the preset: the render does 2 passes */
         o.threads = 1;

@@ -54,6 +54,7 @@ static void test_minimal_scene_and_defaults(void** state)
     assert_int_equal(o.method, VBL_RENDER_PT);
     assert_int_equal(o.max_bounces, -1);
     assert_int_equal(o.threads, 3);
+    assert_int_equal(o.hybrid, VBL_HYBRID_AUTO); /* the default since session 8 (docs/readme/hybrid.md) */
     assert_int_equal(o.transmittance, VBL_TRANSMITTANCE_RATIO_TRACKING);
     /* camera basis follows the reference kit: f, r = cross(f, up), u = cross(r, f) */
     const vbl_camera* cam = &scene->camera;

@@ -82,6 +82,7 @@ static int setup(void** state)
 static vbl_render_options options(vbl_render_method method, int passes, int light_paths)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.spp = 1;

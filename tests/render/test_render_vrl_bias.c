@@ -32,6 +32,7 @@ static void replicas(const vbl_scene* scene, vbl_render_method method, int passe
                      uint64_t seed0, double* mean, double* se)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.spp = spp;

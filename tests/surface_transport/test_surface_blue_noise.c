@@ -121,16 +121,19 @@ static void test_options(void** state)
     char dir[256], path[512], expected[1024];
     rt_make_temp_dir(dir);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
     vbl_scene* scene = NULL;
     rt_write_file(dir, "bn.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"blue_noise\"}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_BLUE_NOISE);
     vbl_scene_release(scene);
     rt_write_file(dir, "lp.json", "{" CAMERA ", \"render\": {\"vsl_placement\": \"light_paths\"}}", path);
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.vsl.placement, VBL_VSL_PLACEMENT_LIGHT_PATHS);
     vbl_scene_release(scene);
     scene = NULL;
@@ -178,6 +181,7 @@ static void test_options(void** state)
         scene = NULL;
         assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
         assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+        o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
         assert_int_equal(o.vsl.path_extension, expect[i]);
         vbl_scene_release(scene);
     }

@@ -75,6 +75,7 @@ static vbl_film* render(const vbl_scene* scene, vbl_render_method method, int pa
                         uint64_t seed)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.method = method;
     o.passes = passes;
     o.spp = spp;
@@ -127,6 +128,7 @@ static void test_shadow_rays_blocked(void** state)
     vbl_light l = point_light(vbl_v3(0, 0, 6), 50.0);
     assert_int_equal(vbl_scene_add_light(scene, &l), VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.passes = 1;
     o.spp = 4;
     o.threads = 2;
@@ -266,6 +268,7 @@ static void test_thread_count_determinism(void** state)
         vbl_film* f[2];
         for (int t = 0; t < 2; ++t) {
             vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+            o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
             o.method = methods[mi];
             o.passes = 1;
             o.spp = 2;

@@ -139,8 +139,10 @@ static void test_scene_block(void** state)
     vbl_scene* scene = NULL;
     assert_int_equal(vbl_scene_load(path, &scene), VBL_SUCCESS);
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_true(o.beam_lights.radius0 == 0.0 && o.beam_lights.alpha == 0.0);
     assert_int_equal(vbl_scene_render_options(scene, &o), VBL_SUCCESS);
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     assert_int_equal(o.method, VBL_RENDER_VBL);
     assert_true(o.beam_lights.radius0 == 0.25 && o.beam_lights.alpha == 0.5);
     vbl_scene_release(scene);
@@ -310,6 +312,7 @@ static void test_optical_radius_options(void** state)
 {
     (void)state;
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     vbl_beam_light_settings st;
     vbl_beam_light_settings_from_options(&o, &st);
     assert_true(st.radius_mfp == VBL_BEAM_LIGHT_RADIUS_MFP_DEFAULT);

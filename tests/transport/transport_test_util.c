@@ -174,6 +174,7 @@ vbl_volume* tt_make_sphere(int n, double r)
 vbl_render_options tt_options(int passes, int spp, int light_paths, uint64_t seed)
 {
     vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.hybrid = VBL_HYBRID_OFF; /* the method alone (hybrid auto is the default) */
     o.passes = passes;
     o.spp = spp;
     o.light_paths = light_paths;

@@ -111,7 +111,8 @@ typedef enum vbl_vrl_pair_sampler {
 typedef enum vbl_hybrid_mode {
     VBL_HYBRID_OFF = 0,     /* the method alone */
     VBL_HYBRID_CLASSES = 1, /* pt renders hybrid_pt_classes with hybrid_pt_spp samples, the method the rest */
-    VBL_HYBRID_AUTO = 2     /* a deterministic pilot picks the classes and pt_spp */
+    VBL_HYBRID_AUTO = 2     /* a deterministic pilot picks the classes and pt_spp (the default; with method pt,
+                               or with light groups, it renders as off) */
 } vbl_hybrid_mode;
 
 /* Reported after every pass; return non-zero from the callback to stop after that pass. */
@@ -215,9 +216,10 @@ typedef enum vbl_render_option_effect {
       "passes that complete even past time_limit (0: the limit holds for the first pass too)")          \
     X(, motion_blur, motion_blur, int, BOOL, "motion_blur", "--motion-blur", 1, 0, 1, 0, NULL, HASH,        \
       "velocity motion blur over camera.shutter for media with a velocity grid (pt; 0: the frame's instant)") \
-    X(, hybrid, hybrid, vbl_hybrid_mode, ENUM, "hybrid", "--hybrid", VBL_HYBRID_OFF, 0, 2, 0, "off|classes|auto", \
+    X(, hybrid, hybrid, vbl_hybrid_mode, ENUM, "hybrid", "--hybrid", VBL_HYBRID_AUTO, 0, 2, 0, "off|classes|auto", \
       HASH, "vpl, vrl, vbl, beams: pt renders some transport classes, the method the others (classes: "      \
-      "hybrid_pt_classes; auto: a pilot picks them; docs/readme/hybrid.md)")                                  \
+      "hybrid_pt_classes; auto, the default: a pilot picks them; pt and light groups ignore auto; "          \
+      "docs/readme/hybrid.md)")                                                                              \
     X(, hybrid_pt_classes, hybrid_pt_classes, int, INT, "hybrid_pt_classes", "--hybrid-pt-classes", 0, 0, 255, 0, \
       NULL, HASH,                                                                                            \
       "hybrid = classes: the layers pt renders, comma-separated names (surface_direct,volume_from_volume) or " \

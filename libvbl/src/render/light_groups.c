@@ -156,6 +156,7 @@ vbl_result vbl_render_light_groups(const vbl_scene* scene, const vbl_render_opti
         }
         vbl_render_options o = *options;
         o.light_groups = 0;
+        if (o.hybrid == VBL_HYBRID_AUTO) o.hybrid = VBL_HYBRID_OFF; /* auto renders as off with light groups */
         o.callback = NULL; /* passes of one group are not the render's progress */
         o.seed = options->seed + (uint64_t)g * VBL_LIGHT_GROUP_SEED_STEP;
         groups[count] = g;

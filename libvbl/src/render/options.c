@@ -406,6 +406,13 @@ void vbl_render_options_hash(const vbl_render_options* o, char* out, size_t size
              * (every VRL) merges only with --vrl-select 0; the other methods omit it at either value */
             const int uses = o->method == VBL_RENDER_VRL || o->method == VBL_RENDER_VBL;
             if (v == 0.0 || (!uses && v == d->default_value)) continue;
+        } else if (i == VBL_OPT_hybrid) {
+            /* pt renders auto as off, so its hash omits the option at either value (pt files of every
+             * version keep their hash); the virtual-light methods hash it against its default, auto.
+             * A film of the former default (off, written before session 8) therefore has the hash of
+             * an auto film, and the films' recorded plans (vbl:hybrid, film_merge.c) keep the two
+             * apart; an off film of now has hybrid=0 in its hash */
+            if (v == d->default_value || (o->method == VBL_RENDER_PT && v == VBL_HYBRID_OFF)) continue;
         } else if (!(d->flags & VBL_OPTION_HASH_ALWAYS) && v == d->default_value)
             continue;
         /* as files written before the table have them: on = 1, off = 0; 0 lights = the default */

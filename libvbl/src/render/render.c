@@ -225,8 +225,13 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                          "and beams do)",
                          scene->path, est->name);
 
-    if (options->light_groups && scene->light_group_count > 0) {
-        if (options->hybrid != VBL_HYBRID_OFF)
+    /* render.hybrid = auto (the default) combines where it can: not with pt (nothing to combine)
+     * nor with light groups (not combined yet); hybrid = classes there is an error */
+    const int pt_method = est->camera_sample == vbl_pt_camera_sample || options->method == VBL_RENDER_PT;
+    const int groups = options->light_groups && scene->light_group_count > 0;
+    const int hybrid = options->hybrid == VBL_HYBRID_AUTO && (pt_method || groups) ? VBL_HYBRID_OFF : options->hybrid;
+    if (groups) {
+        if (hybrid != VBL_HYBRID_OFF)
             return vbl_error(VBL_ERROR_UNSUPPORTED, "%s: hybrid and light_groups do not combine yet", scene->path);
         return vbl_render_light_groups(scene, options, est, out_film); /* one render per group */
     }
@@ -262,7 +267,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
      * pass, with seeds of its own, so every pass range of a split render makes the same plan */
     vbl_hybrid_plan hybrid_plan;
     const double hybrid_start = omp_get_wtime(); /* the pilot counts towards time_limit and render_seconds */
-    if (options->hybrid != VBL_HYBRID_OFF) {
+    if (hybrid != VBL_HYBRID_OFF) {
         if ((r = vbl_hybrid_plan_make(&ctx, est, &hybrid_plan))) return r;
         ctx.hybrid = &hybrid_plan;
         est = &vbl_estimator_hybrid;
