@@ -312,6 +312,27 @@ static void test_split_merge_equals_single(void** state)
     vbl_scene_release(scene);
 }
 
+/* A cancel (SIGINT in the CLI) set before the render stops it in the pilot (its light tracing or its
+ * pixels): an interrupted error, no film. (How soon it stops is not timed here: measured with the
+ * CLI, hybrid.md.) */
+static void test_cancel_in_pilot(void** state)
+{
+    (void)state;
+    vbl_scene* scene = NULL;
+    assert_int_equal(vbl_scene_load(scene_path, &scene), VBL_SUCCESS);
+    static volatile int cancel = 1;
+    vbl_render_options o = VBL_RENDER_OPTIONS_DEFAULT;
+    o.method = VBL_RENDER_VRL;
+    o.hybrid = VBL_HYBRID_AUTO;
+    o.passes = 4;
+    o.cancel = &cancel;
+    vbl_film* film = NULL;
+    assert_int_equal(vbl_render(scene, &o, &film), VBL_ERROR_INTERRUPTED);
+    assert_null(film);
+    vbl_clear_error();
+    vbl_scene_release(scene);
+}
+
 /* auto is the default: a virtual-light render runs the pilot and records its plan; pt renders it as
  * off (the same image and options hash as with off); classes with pt is still an error. */
 static void test_auto_default_and_pt(void** state)
@@ -371,6 +392,7 @@ int main(void)
         cmocka_unit_test(test_threads_and_plan_deterministic),
         cmocka_unit_test(test_split_merge_equals_single),
         cmocka_unit_test(test_auto_default_and_pt),
+        cmocka_unit_test(test_cancel_in_pilot),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

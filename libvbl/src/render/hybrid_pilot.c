@@ -118,6 +118,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
     pc.hybrid = NULL;
     vbl_result r = VBL_SUCCESS;
     uint64_t store_lights = 0; /* lights traced into the pilot passes' stores (core/work_count.h) */
+    volatile int stop = 0; /* a cancel seen by any thread (the pilot has no time limit of its own) */
     for (int p = 0; p < P && !r; ++p) {
         pc.pass = (uint32_t)p;
         void* store = NULL;
@@ -132,6 +133,10 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
             if (scene->has_emission) vbl_emission_cursor_init(&ts.emission, scene);
 #pragma omp for schedule(dynamic, 1)
             for (int k = 0; k < count; ++k) {
+                if (stop || vbl_render_stop_requested(&pc)) { /* cancel (SIGINT): skip the rest */
+                    stop = 1;
+                    continue;
+                }
                 vbl_pilot_pixel* q = &px[k];
                 const uint64_t pixel = (uint64_t)q->py * (uint64_t)W + (uint64_t)q->px;
                 vbl_camera_sample cs;
@@ -167,7 +172,8 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
             }
         }
         if (base->pass_end) base->pass_end(&pc, store);
-        if (pc.stop_latch && *pc.stop_latch) r = vbl_error(VBL_ERROR_INTERRUPTED, "%s: render stopped during the hybrid pilot", scene->path);
+        if (stop || vbl_render_stop_requested(&pc) || (pc.stop_latch && *pc.stop_latch))
+            r = vbl_error(VBL_ERROR_INTERRUPTED, "%s: render stopped during the hybrid pilot", scene->path);
     }
     if (r) {
         free(px);
