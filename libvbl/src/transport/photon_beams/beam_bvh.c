@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/work_count.h"
 #include "core/error.h"
 
 #define BVH_BINS 16
@@ -314,8 +315,10 @@ vbl_result vbl_beam_bvh_query(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, d
     uint32_t stack[BVH_MAX_DEPTH + 8];
     int top = 0;
     stack[top++] = 0;
+    uint64_t visited = 0; /* nodes, for the cost model (core/work_count.h) */
     while (top > 0) {
         const vbl_beam_bvh_node* n = &bvh->nodes[stack[--top]];
+        ++visited;
         if (!segment_hits_box(oo, dd, length, n->lo, n->hi)) continue;
         if (n->count == 0) {
             stack[top++] = n->first;                                /* right */
@@ -344,6 +347,7 @@ vbl_result vbl_beam_bvh_query(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, d
             if (hits->ids[i] != hits->ids[w - 1]) hits->ids[w++] = hits->ids[i];
         hits->count = w;
     }
+    vbl_work_add(VBL_WORK_TREE_NODE, visited);
     return VBL_SUCCESS;
 }
 
@@ -355,8 +359,10 @@ void vbl_beam_bvh_visit(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, double 
     uint32_t stack[BVH_MAX_DEPTH + 8];
     int top = 0;
     stack[top++] = 0;
+    uint64_t visited = 0; /* nodes, for the cost model (core/work_count.h) */
     while (top > 0) {
         const vbl_beam_bvh_node* n = &bvh->nodes[stack[--top]];
+        ++visited;
         if (!segment_hits_box(oo, dd, length, n->lo, n->hi)) continue;
         if (n->count == 0) {
             stack[top++] = n->first;
@@ -373,4 +379,5 @@ void vbl_beam_bvh_visit(const vbl_beam_bvh* bvh, vbl_vec3 o, vbl_vec3 d, double 
             fn(user, pc->beam, pc->t0, pc->t1);
         }
     }
+    vbl_work_add(VBL_WORK_TREE_NODE, visited);
 }

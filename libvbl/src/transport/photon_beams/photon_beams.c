@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/work_count.h"
 #include "core/error.h"
 #include "transport/common/radius_schedule.h"
 #include "media/medium.h"
@@ -141,6 +142,7 @@ static void vbl_gather_piece(void* user, uint32_t beam, double t0, double t1)
 {
     vbl_gather_visit* v = user;
     const vbl_photon_beam_gather* g = v->g;
+    vbl_work_add(VBL_WORK_LIGHT_EVAL, 1);
     const vbl_vrl* l = &g->photons->vrls[g->vrl_index[beam]];
     vbl_photon_beam_eval_result e;
     vbl_vec3 b_o = vbl_v3_madd(l->origin, l->direction, t0);
@@ -208,6 +210,7 @@ vbl_result vbl_photon_beams_pass_begin_with(const vbl_render_context* ctx, const
     s->settings = *settings;
     vbl_result r = vbl_photon_beams_trace(ctx, 0, &s->photons);
     if (!r) {
+        vbl_work_add(VBL_WORK_STORE_LIGHT, s->photons.vrl_count); /* the cost model (core/work_count.h) */
         double r0 = settings->radius0 > 0.0 ? settings->radius0
                                             : vbl_beams_default_radius(scene, &s->photons, ctx->options.max_bounces, 1, 0);
         s->radius = vbl_radius_at_pass(r0, settings->alpha, 1, ctx->pass);
