@@ -26,8 +26,9 @@ typedef struct vbl_hybrid_pilot_stats {
     double pt_variance[VBL_CLASS_COUNT]; /* variance of one pt sample (sum over pilot pixels) */
     double vl_variance[VBL_CLASS_COUNT]; /* variance of one method pass (spp samples), same units */
     double pt_cost, vl_cost;             /* cost units (density lookups, VBL_HYBRID_RAY_COST per ray
-                                            cast, VBL_HYBRID_SAMPLE_COST per camera sample) per pt
-                                            sample / per method pass of one pixel */
+                                            cast, VBL_HYBRID_SAMPLE_COST per camera sample, the
+                                            work counts below) per pt sample / per method pass of
+                                            one pixel, the method's store included */
 } vbl_hybrid_pilot_stats;
 
 /* What a hybrid render does (fixed for the whole render, for every pass range). */

@@ -15,7 +15,7 @@ typedef struct vbl_pilot_pixel {
     int px, py;
     double vl_sum[VBL_CLASS_COUNT], vl_sq[VBL_CLASS_COUNT]; /* over passes, of the pass mean (luminance-free: R+G+B) */
     double pt_sum[VBL_CLASS_COUNT], pt_sq[VBL_CLASS_COUNT]; /* over single pt samples */
-    double vl_lookups, pt_lookups;
+    double vl_cost, pt_cost; /* cost units (vbl_pilot_cost) over the pilot passes / pt samples */
 } vbl_pilot_pixel;
 
 static double vbl_pilot_value(vbl_vec3 v) { return v.x + v.y + v.z; }
@@ -34,8 +34,9 @@ static void vbl_pilot_camera_sample(const vbl_render_context* ctx, int px, int p
     vbl_camera_sample_ray(ctx->scene, cs);
 }
 
-/* The pilot's cost count of this thread: density lookups + VBL_HYBRID_RAY_COST per ray cast. */
-static double vbl_pilot_lookups(const vbl_thread_state* ts)
+/* The pilot's cost count of this thread: density lookups, VBL_HYBRID_RAY_COST per ray cast and the
+ * virtual lights' own work (core/work_count.h), weighted (hybrid.h). */
+static double vbl_pilot_cost(const vbl_thread_state* ts)
 {
     return (double)vbl_extinction_cursor_lookups(&ts->cursor) + VBL_HYBRID_RAY_COST * (double)vbl_surfaces_ray_count() +
            VBL_HYBRID_TREE_NODE_COST * (double)vbl_work_count(VBL_WORK_TREE_NODE) +
@@ -142,7 +143,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
                 vbl_camera_sample cs;
                 double mean[VBL_CLASS_COUNT] = {0};
                 vbl_rng rng = vbl_rng_make(pc.options.seed, (uint64_t)p, pixel);
-                double l0 = vbl_pilot_lookups(&ts);
+                double l0 = vbl_pilot_cost(&ts);
                 for (int s = 0; s < spp; ++s) {
                     vbl_sample_value v;
                     memset(&v, 0, sizeof v);
@@ -150,8 +151,8 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
                     base->camera_sample(&pc, store, &ts, &cs, &rng, &v);
                     for (int c = 0; c < VBL_CLASS_COUNT; ++c) mean[c] += vbl_pilot_value(v.L[c]) / spp;
                 }
-                double l1 = vbl_pilot_lookups(&ts);
-                q->vl_lookups += l1 - l0;
+                double l1 = vbl_pilot_cost(&ts);
+                q->vl_cost += l1 - l0;
                 for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
                     q->vl_sum[c] += mean[c];
                     q->vl_sq[c] += mean[c] * mean[c];
@@ -168,7 +169,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
                         q->pt_sq[c] += x * x;
                     }
                 }
-                q->pt_lookups += vbl_pilot_lookups(&ts) - l1;
+                q->pt_cost += vbl_pilot_cost(&ts) - l1;
             }
         }
         if (base->pass_end) base->pass_end(&pc, store);
@@ -195,7 +196,7 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
     memset(st, 0, sizeof *st);
     double vl_energy[VBL_CLASS_COUNT] = {0}, pt_energy[VBL_CLASS_COUNT] = {0};
     double vl_total[VBL_CLASS_COUNT] = {0}, pt_total[VBL_CLASS_COUNT] = {0}; /* grid sums of the means */
-    double vl_lookups = 0, pt_lookups = 0;
+    double vl_cost = 0, pt_cost = 0;
     for (int k = 0; k < count; ++k) { /* in pixel order: the same sums at any thread count */
         const vbl_pilot_pixel* q = &px[k];
         for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
@@ -206,17 +207,17 @@ vbl_result vbl_hybrid_pilot(const vbl_render_context* ctx, const vbl_estimator* 
             st->pt_variance[c] += vp / norm;
             vl_energy[c] += fabs(mv);
             pt_energy[c] += fabs(mp);
-            vl_total[c] += mv / grid_mean;
-            pt_total[c] += mp / grid_mean;
+            vl_total[c] += mv / sqrt(norm); /* in the variances' units; finite on a black grid */
+            pt_total[c] += mp / sqrt(norm);
         }
-        vl_lookups += q->vl_lookups;
-        pt_lookups += q->pt_lookups;
+        vl_cost += q->vl_cost;
+        pt_cost += q->pt_cost;
     }
     free(px);
     /* a pass's store (light tracing, tree build) is shared by every pixel of the image */
-    st->vl_cost = vl_lookups / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp +
+    st->vl_cost = vl_cost / ((double)P * count) + VBL_HYBRID_SAMPLE_COST * spp +
                   VBL_HYBRID_STORE_LIGHT_COST * (double)store_lights / ((double)P * W * H);
-    st->pt_cost = pt_lookups / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
+    st->pt_cost = pt_cost / (n_pt * count) + VBL_HYBRID_SAMPLE_COST;
     const unsigned mask = vbl_hybrid_assign(st, vl_total, pt_total, vl_energy, pt_energy, P, n_pt);
     double A = 0.0, B = 0.0;
     for (int c = 0; c < VBL_CLASS_COUNT; ++c) {

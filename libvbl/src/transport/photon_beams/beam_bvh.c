@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/work_count.h"
 #include "core/error.h"
+#include "core/work_count.h"
 
 #define BVH_BINS 16
 #define BVH_MAX_DEPTH 48

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/work_count.h"
 #include "core/error.h"
+#include "core/work_count.h"
 #include "transport/common/radius_schedule.h"
 #include "media/medium.h"
 #include "transport/photon_beams/beam_bvh.h"

@@ -6,8 +6,8 @@
 
 #include "transport/surface/blue_noise/gather.h"
 #include "transport/surface/blue_noise/prepare.h"
-#include "core/work_count.h"
 #include "core/error.h"
+#include "core/work_count.h"
 #include "sampling/vsl_cone.h"
 #include "scene/lights.h"
 #include "media/medium.h"
