@@ -256,7 +256,12 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
       NULL, HASH,                                                                                            \
       "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \
-      "K distances stratified along the ray instead of the first collision's NEE (1: the collision)")
+      "K distances stratified along the ray instead of the first collision's NEE (1: the collision)")     \
+    X(pt., pt_surface_direct_rate, surface_direct_rate, double, DOUBLE, "pt.surface_direct_rate",           \
+      "--pt-surface-direct-rate", 4.0, 1, 64, 0, NULL, HASH,                                                 \
+      "pt: shadow rays from camera-visible surface points (surface_direct) estimate their transmittance "  \
+      "at this many times the density (march points or tentative collisions; times "                      \
+      "transmittance_majorant_scale)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

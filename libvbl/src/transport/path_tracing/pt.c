@@ -300,6 +300,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         ctx = &shadow_ctx;
     }
     const vbl_render_context* first_ctx = ctx;
+    /* pt.surface_direct_rate: the shadow rays of a camera-visible surface point (surface_direct)
+     * at that many times the march density; their transmittance noise is most of that layer's
+     * noise where a lit surface sees its light through thin smoke (measured in
+     * docs/readme/sampling.md) */
+    vbl_render_context surface_first_ctx = *ctx;
+    surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
     const vbl_pt_guide* guide = ctx->pt_guide;
     vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
     int branch_count = 0;
@@ -388,7 +394,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         } else {
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
             int last = max_bounces >= 0 && path.events >= max_bounces;
-            vbl_pt_next_event_surface(nee_ctx, ts, &hit, wo, &path, &dims, last, beta, rng, out);
+            vbl_pt_next_event_surface(path.events == 1 ? &surface_first_ctx : nee_ctx, ts, &hit, wo, &path, &dims,
+                                      last, beta, rng, out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_surface(ctx, ts, &hit, wo, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
