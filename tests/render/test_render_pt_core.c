@@ -22,6 +22,7 @@
 #include "transport_test_util.h"
 #include "vbl/vbl.h"
 #include "volume_test_grid.h"
+#include "pt_switch_scene.h"
 
 #define W 12
 #define H 10
@@ -40,33 +41,10 @@ typedef struct core_config {
     double surface_direct_rate; /* pt.surface_direct_rate */
 } core_config;
 
-/* quad_only: one 1 x 1 quad light inside the top of the medium (no point or distant light), so
- * the paths the three quad strategies share carry most of volume_direct. */
 static core_case make_case(int quad_only)
 {
     core_case c;
-    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, W, H);
-    c.scene = tt_scene(&cam);
-    c.volume = tt_make_sphere(16, 0.9);
-    assert_int_equal(vbl_scene_add_medium(c.scene, c.volume, 2.0, vbl_v3(0.9, 0.8, 0.7), 0.3, NULL), VBL_SUCCESS);
-    if (!quad_only) {
-        tt_add_point(c.scene, vbl_v3(0.3, -0.2, 1.15), 3.0);
-        tt_add_distant(c.scene, vbl_v3(0.3, 0.5, -1.0), 1.0);
-    }
-    vbl_light q;
-    memset(&q, 0, sizeof q);
-    q.type = VBL_LIGHT_QUAD;
-    q.corner = quad_only ? vbl_v3(-0.5, -0.5, 0.35) : vbl_v3(-1.0, -0.6, 1.6);
-    q.edge1 = vbl_v3(0, 1, 0);
-    q.edge2 = vbl_v3(1, 0, 0); /* normal -z: emits downward */
-    q.area = 1.0;
-    q.normal = vbl_v3(0, 0, -1);
-    q.color = vbl_v3(2, 2, 2);
-    assert_int_equal(vbl_scene_add_light(c.scene, &q), VBL_SUCCESS);
-    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
-    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
-    add_quad(c.scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
-    add_quad(c.scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+    c.scene = pt_switch_scene(2.0, quad_only, W, H, &c.volume);
     return c;
 }
 
@@ -139,11 +117,10 @@ static void test_surface_rate_deterministic(void** state)
 }
 
 /* A Lambert floor lit by a point light through a thin smoke sphere (optical depth ~0.4 across):
- * surface_direct's noise is mostly the shadow ray's transmittance. Both modes must keep the mean
- * (z within Z_CRIT); under ratio tracking (tentative collisions at rate x the majorant) the
- * standard error (K renders) must fall clearly. The adaptive march is already close to its floor
- * in this small smooth medium (se ratio ~0.75-1.0 here); its gain shows in the smoky rooms of
- * bench/pt_ab (docs/readme/sampling.md), which need the sample cloud. */
+ * with pt.camera_split (the default) the camera ray's own transmittance is a ratio-tracking
+ * weight, so surface_direct's noise is mostly the shadow ray's transmittance. Both modes must keep
+ * the mean (z within Z_CRIT) and their standard error (2K renders) must fall below 0.8x (measured
+ * 0.37x for the adaptive march, 0.65x for ratio tracking at 4 spp). */
 static vbl_film* render_thin(const vbl_scene* scene, const void* cfg, uint64_t seed)
 {
     return render_pt(scene, cfg, 1, 4, seed, 2);
@@ -165,15 +142,15 @@ static void test_surface_rate_lowers_noise(void** state)
                                   {"rate 8, ratio", VBL_PT_SHADOW_RENDER, 0, 8.0}};
     for (int i = 0; i < 2; ++i) {
         double m0[VBL_CLASS_COUNT], se0[VBL_CLASS_COUNT], m1[VBL_CLASS_COUNT], se1[VBL_CLASS_COUNT];
-        layer_stats(render_thin, scene, &base[i], K, 31, m0, se0);
-        layer_stats(render_thin, scene, &dense[i], K, 47, m1, se1);
+        layer_stats(render_thin, scene, &base[i], 2 * K, 31, m0, se0);
+        layer_stats(render_thin, scene, &dense[i], 2 * K, 47, m1, se1);
         const int l = VBL_CLASS_SURFACE_DIRECT;
         const double z = (m1[l] - m0[l]) / sqrt(se0[l] * se0[l] + se1[l] * se1[l]);
         printf("surface_direct %s: %.6f (se %.6f); %s: %.6f (se %.6f); z = %+.2f, se ratio %.2f\n", base[i].name,
                m0[l], se0[l], dense[i].name, m1[l], se1[l], z, se1[l] / se0[l]);
         assert_true(m0[l] > 0.0 && se0[l] > 0.0);
         assert_true(fabs(z) <= Z_CRIT);
-        if (base[i].shadow == VBL_PT_SHADOW_RENDER) assert_true(se1[l] < 0.6 * se0[l]);
+        assert_true(se1[l] < 0.8 * se0[l]);
     }
     vbl_scene_release(scene);
     vt_free(volume);

@@ -208,7 +208,9 @@ static void test_g_near_one(void** state)
  * short render is too dark. Measured (explore runs, 8x8, 8 renders, volume_from_volume): pt 0.132
  * +- 0.0075 at 32 spp, 0.183 +- 0.014 at 256 spp; vpl 0.174 +- 0.015 (200 paths), 0.174 +- 0.011
  * (2000 paths); pt without equiangular NEE 0.164 +- 0.011 at 256 spp. Here, cheaply and framed off
- * the light: pt at 32 spp against vpl and vrl, image means within 4 standard errors. */
+ * the light: pt at 32 spp against vpl and vrl, image means within 4 standard errors. pt takes 16
+ * renders: with 4, a draw of its heavy tail decides the test (pt.camera_split on and off agree at
+ * 64 renders: volume_from_volume 0.477 +- 0.022 and 0.511 +- 0.026, 2026-12-06). */
 static void test_point_light_inside(void** state)
 {
     (void)state;
@@ -220,7 +222,7 @@ static void test_point_light_inside(void** state)
     tt_add_point(s, vbl_v3(0.05, 0.03, 0.02), 10.0);
     tt_stats pt, vl[2];
     vbl_render_options o = tt_options(2, 32, 0, 73);
-    tt_replicate(s, vbl_estimator_for(VBL_RENDER_PT), &o, 4, 2, &pt);
+    tt_replicate(s, vbl_estimator_for(VBL_RENDER_PT), &o, 16, 2, &pt);
     assert_true(pt.finite && pt.image_mean[1] > 0.0);
     const vbl_render_method m[2] = {VBL_RENDER_VPL, VBL_RENDER_VRL};
     for (int k = 0; k < 2; ++k) {

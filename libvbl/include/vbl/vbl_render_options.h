@@ -261,7 +261,12 @@ typedef enum vbl_render_option_effect {
       "--pt-surface-direct-rate", 4.0, 1, 64, 0, NULL, HASH,                                                 \
       "pt: shadow rays from camera-visible surface points (surface_direct) estimate their transmittance "  \
       "at this many times the density (march points or tentative collisions; times "                      \
-      "transmittance_majorant_scale)")
+      "transmittance_majorant_scale)")    \
+    X(pt., pt_camera_split, camera_split, int, BOOL, "pt.camera_split", "--pt-camera-split", 1, 0, 1, 0,     \
+      NULL, HASH,                                                                                            \
+      "pt: the camera segment's free flight split into a forced scattering point (resampled from a ratio-"   \
+      "tracking walk at 4x the majorant) and the surface/background behind, weighted by the walk's "        \
+      "transmittance; both traced (false: one delta-tracking free flight)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

@@ -33,6 +33,7 @@
 #include "media/medium.h"
 #include "media/medium_grids.h"
 #include "transport/common/emission_estimate.h"
+#include "transport/path_tracing/pt_camera_split.h"
 #include "transport/path_tracing/pt_direct_strata.h"
 #include "transport/path_tracing/pt_equiangular.h"
 #include "transport/path_tracing/pt_guide.h"
@@ -242,8 +243,9 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     L->z += beta.z * f.z * ls.li.z * s;
 }
 
-/* pt.guided_rr's splitting (pt_guide.h): the copies of a path still to trace, each with its own
- * stream (drawn from the splitting path's), depth first; at most VBL_PT_SPLIT_STACK wait at once. */
+/* pt.guided_rr's splitting (pt_guide.h) and pt.camera_split's surface part (pt_camera_split.h):
+ * the copies of a path still to trace, each with its own stream (drawn from the splitting
+ * path's), depth first; at most VBL_PT_SPLIT_STACK wait at once. */
 #define VBL_PT_SPLIT_STACK 32
 typedef struct vbl_pt_branch {
     vbl_vec3 origin, direction, vertex, beta;
@@ -251,8 +253,37 @@ typedef struct vbl_pt_branch {
     vbl_pt_path path;
     vbl_pt_eq_vertex eq_vertex;
     int has_eq_vertex;
+    int sobol;          /* the copy's 2D pairs: Sobol (camera split) or its stream (guide copies) */
+    int resume_surface; /* 1: the camera split's surface part (the segment's media already walked) */
     vbl_rng rng;
 } vbl_pt_branch;
+
+/* The split camera segment's lights seen directly (pt_camera_split.h): a quad light before the
+ * surface with its own transmittance estimate, the environment (the ray escapes) with the walk's
+ * T_end; no MIS at the camera vertex. */
+static void vbl_pt_split_visible_lights(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                        vbl_vec3 direction, double t_surface, double T_end, vbl_vec3 beta,
+                                        vbl_rng* rng, vbl_sample_value* out)
+{
+    const vbl_scene* scene = ctx->scene;
+    if (!scene->has_visible_lights || !vbl_ctx_wants(ctx, VBL_CLASS_EMISSION)) return;
+    vbl_vec3* L = &out->L[VBL_CLASS_EMISSION];
+    for (int i = 0; i < scene->light_count; ++i) {
+        const vbl_light* light = &scene->lights[i];
+        double T;
+        if (light->type == VBL_LIGHT_QUAD) {
+            double t_hit;
+            if (!vbl_quad_intersect(light, origin, direction, &t_hit) || !(t_hit < t_surface)) continue;
+            T = vbl_ctx_transmittance(ctx, ts, origin, direction, t_hit, rng);
+        } else if (light->type == VBL_LIGHT_ENVIRONMENT) {
+            if (!isinf(t_surface)) continue;
+            T = T_end;
+        } else {
+            continue;
+        }
+        vbl_add_scaled(L, beta, light->color, T);
+    }
+}
 
 void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
@@ -270,6 +301,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     vbl_pt_path path = {0, 0, -1};
     const int equiangular = vbl_pt_equiangular_active(ctx);
     const int direct_strata = vbl_pt_direct_strata_active(ctx);
+    const int camera_split = vbl_pt_camera_split_active(ctx);
+    int resume_surface = 0; /* the next segment is a camera split's surface part */
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
     vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
@@ -330,7 +363,48 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double u_ff[2]; /* pt.sampler = sobol: the flight's first depth and its real/null decisions */
         const double* ff = dims.sobol ? u_ff : NULL;
         if (ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
-        if (scene->has_emission) {
+        const vbl_vec3 segment_beta = beta; /* the throughput into this segment (the split rescales beta) */
+        int segment_estimators = 1; /* the segment's visible lights, direct strata, equiangular NEE */
+        int split_end = 0;          /* the split has no part left to trace (after the segment's estimators) */
+        if (resume_surface) { /* pt_camera_split.h: the surface part, weighted by T_end already */
+            resume_surface = 0;
+            collided = 0;
+            segment_estimators = 0;
+        } else if (camera_split && path.events == 0) { /* pt_camera_split.h */
+            vbl_pt_split_walk walk;
+            vbl_emission_visit_state e = {scene, &ts->emission, beta, &out->L[VBL_CLASS_VOLUME_EMISSION]};
+            vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
+                                     scene->has_emission ? &e : NULL, rng, &walk);
+            const int k = vbl_pt_camera_split_pick(&walk, ff ? u_ff[1] : vbl_rng_uniform(rng));
+            vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
+            segment_estimators = 2;
+            collided = 0;
+            if (k >= 0) { /* the medium part: throughput W sigma_t / sigma_s(p_k) into the collision code */
+                t = walk.t[k];
+                vbl_vec3 x = vbl_v3_madd(origin, direction, t);
+                sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, x, components);
+                vbl_medium_point mp;
+                vbl_medium_point_from_components(scene, components, &mp);
+                vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp);
+                const double ss = (mp.sigma_s.x + mp.sigma_s.y + mp.sigma_s.z) / 3.0;
+                const double scale = walk.cum[walk.n - 1] * sigma_t / ss;
+                if (sigma_t > 0.0 && ss > 0.0 && isfinite(scale)) {
+                    collided = 1;
+                    if (on_surface && walk.T_end != 0.0) { /* the surface part waits on the stack */
+                        uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
+                        key |= vbl_rng_next_u32(rng);
+                        branches[branch_count++] = (vbl_pt_branch){
+                            origin, direction, vertex, vbl_v3_scale(beta, walk.T_end), prev_pdf, path, eq_vertex,
+                            has_eq_vertex, dims.sobol, 1, vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
+                    }
+                    beta = vbl_v3_scale(beta, scale);
+                }
+            }
+            if (!collided) {
+                if (on_surface && walk.T_end == 0.0) split_end = 1; /* nothing reaches the surface */
+                beta = vbl_v3_scale(beta, walk.T_end);
+            }
+        } else if (scene->has_emission) {
             /* after a scattering event with emission NEE on, this strategy's MIS weight */
             double w = 1.0;
             if (path.events > 0 && emission_nee)
@@ -345,20 +419,23 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                                                    components, NULL, NULL);
         }
         double t_limit = collided ? t : t_surface;
-        vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
-                                  has_eq_vertex ? &eq_vertex : NULL, beta, out);
-        if (direct_strata && path.events == 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT)) /* the camera segment's single scattering, stratified */
-            vbl_pt_direct_strata(nee_ctx, ts, origin, direction, t_surface, beta, rng,
+        if (segment_estimators == 1)
+            vbl_pt_add_visible_lights(ctx, origin, vertex, direction, t_limit, &path, prev_pdf,
+                                      has_eq_vertex ? &eq_vertex : NULL, beta, out);
+        if (segment_estimators && direct_strata && path.events == 0 && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT)) /* the camera segment's single scattering, stratified */
+            vbl_pt_direct_strata(nee_ctx, ts, origin, direction, t_surface, segment_beta, rng,
                                  &out->L[VBL_CLASS_VOLUME_DIRECT]);
         vbl_pt_path next = path; /* the segment's equiangular NEE: light scattered once more, at a medium vertex */
         vbl_pt_vertex(&next, 0);
-        if (equiangular && (max_bounces < 0 || path.events < max_bounces) && vbl_ctx_wants(ctx, vbl_pt_class(&next))) {
+        if (segment_estimators && equiangular && (max_bounces < 0 || path.events < max_bounces) &&
+            vbl_ctx_wants(ctx, vbl_pt_class(&next))) {
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
-            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, beta, u_pick, u_t, !next_last, rng,
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t, !next_last, rng,
                                    &out->L[vbl_pt_class(&next)]);
         }
+        if (split_end) break;
         if (!collided && !on_surface) break; /* escaped */
         if (collided && !(sigma_t > 0.0)) break;
 
@@ -425,8 +502,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
             key |= vbl_rng_next_u32(rng);
             for (int k = 1; k < copies; ++k)
-                branches[branch_count++] = (vbl_pt_branch){origin, wi, vertex, beta, pdf, path, eq_vertex, has_eq_vertex,
-                                                           vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)};
+                branches[branch_count++] = (vbl_pt_branch){origin,        wi, vertex, beta, pdf, path, eq_vertex,
+                                                           has_eq_vertex, 0,  0,  vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)};
         }
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
         if (copies < 0 && path.events >= 3) {
@@ -441,6 +518,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         const vbl_pt_branch* b = &branches[--branch_count];
         origin = b->origin, direction = b->direction, vertex = b->vertex, beta = b->beta;
         prev_pdf = b->prev_pdf, path = b->path, eq_vertex = b->eq_vertex, has_eq_vertex = b->has_eq_vertex;
+        dims.sobol = b->sobol;
+        resume_surface = b->resume_surface;
         branch_rng = b->rng;
         rng = &branch_rng;
     }

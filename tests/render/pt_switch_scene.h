@@ -1,0 +1,51 @@
+/* The scene of pt's switch tests (issue 14: test_render_pt_core.c, test_render_pt_camera_split.c):
+ * a heterogeneous sphere between a Lambert floor and wall, lit by a point, a distant and a quad
+ * light. Header-only (static); include after cmocka.h, render_test_util.h and
+ * surface_render_util.h. */
+#ifndef VBL_TEST_PT_SWITCH_SCENE_H
+#define VBL_TEST_PT_SWITCH_SCENE_H
+
+#include <string.h>
+
+/* A quad light of area 1 (edges e1, e2, unit normal) with radiance L. */
+static inline vbl_light pt_switch_quad_light(vbl_vec3 corner, vbl_vec3 e1, vbl_vec3 e2, vbl_vec3 normal, double L)
+{
+    vbl_light q;
+    memset(&q, 0, sizeof q);
+    q.type = VBL_LIGHT_QUAD;
+    q.corner = corner;
+    q.edge1 = e1;
+    q.edge2 = e2;
+    q.area = 1.0;
+    q.normal = normal;
+    q.color = vbl_v3(L, L, L);
+    return q;
+}
+
+/* The sphere tt_make_sphere(16, 0.9) (albedo (0.9, 0.8, 0.7), g 0.3, density_scale) seen through
+ * a w x h film; quad_only: one 1 x 1 quad light inside the top of the medium and no other light
+ * (the paths the three quad strategies share then carry most of volume_direct). The volume goes
+ * to *volume (vt_free it after the scene). */
+static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, int w, int h, vbl_volume** volume)
+{
+    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, w, h);
+    vbl_scene* scene = tt_scene(&cam);
+    *volume = tt_make_sphere(16, 0.9);
+    assert_int_equal(vbl_scene_add_medium(scene, *volume, density_scale, vbl_v3(0.9, 0.8, 0.7), 0.3, NULL),
+                     VBL_SUCCESS);
+    if (!quad_only) {
+        tt_add_point(scene, vbl_v3(0.3, -0.2, 1.15), 3.0);
+        tt_add_distant(scene, vbl_v3(0.3, 0.5, -1.0), 1.0);
+    }
+    /* normal -z: emits downward */
+    vbl_light q = pt_switch_quad_light(quad_only ? vbl_v3(-0.5, -0.5, 0.35) : vbl_v3(-1.0, -0.6, 1.6),
+                                       vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, -1), 2.0);
+    assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
+    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
+    add_quad(scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+    return scene;
+}
+
+#endif

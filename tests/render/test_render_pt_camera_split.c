@@ -1,0 +1,202 @@
+/* pt.camera_split (issue 14): the camera segment's forced scattering point and its
+ * transmittance-weighted surface/background part (transport/path_tracing/pt_camera_split.h),
+ * against pt's delta-tracking free flight (pt.camera_split false):
+ *   - quick group: bit-identical at 1 and 2 threads and different from the flight; finite images
+ *     that sum to their beauty at density scales 1e-8 and 1e6; a semi-transparent sphere under a
+ *     distant light keeps volume_direct's mean and lowers its standard error; an environment and a
+ *     quad light seen through the medium keep the emission layer's mean (the walk's T_end and the
+ *     quad's own transmittance estimate);
+ *   - agreement group (slow): every layer's mean agrees with the flight's within Z_CRIT standard
+ *     errors in a heterogeneous sphere among Lambert surfaces lit by a point, a quad and a distant
+ *     light (the surface part, the equiangular MIS, quads' three strategies). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render_test_util.h"
+#include "surface_render_util.h"
+#include "transport_test_util.h"
+#include "vbl/vbl.h"
+#include "volume_test_grid.h"
+#include "pt_switch_scene.h"
+
+#define K 16
+#define Z_CRIT 4.5
+
+typedef struct split_case {
+    vbl_scene* scene;
+    vbl_volume* volume;
+} split_case;
+
+static split_case surfaces_case(double density_scale)
+{
+    split_case c;
+    c.scene = pt_switch_scene(density_scale, 0, 12, 10, &c.volume);
+    return c;
+}
+
+static void release_case(split_case* c)
+{
+    vbl_scene_release(c->scene);
+    vt_free(c->volume);
+}
+
+typedef struct split_config {
+    int split, passes, spp;
+} split_config;
+
+static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_t seed)
+{
+    const split_config* cfg = cfg_ptr;
+    vbl_render_options o = tt_options(cfg->passes, cfg->spp, 0, seed);
+    o.method = VBL_RENDER_PT;
+    o.pt.camera_split = cfg->split;
+    vbl_film* film = NULL;
+    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+static vbl_film* render_threads(const vbl_scene* scene, int split, int threads)
+{
+    vbl_render_options o = tt_options(2, 2, 0, 5);
+    o.method = VBL_RENDER_PT;
+    o.threads = threads;
+    o.pt.camera_split = split;
+    vbl_film* film = NULL;
+    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+static void test_deterministic_and_active(void** state)
+{
+    (void)state;
+    split_case c = surfaces_case(2.0);
+    vbl_film* a = render_threads(c.scene, 1, 1);
+    vbl_film* b = render_threads(c.scene, 1, 2);
+    vbl_film* d = render_threads(c.scene, 0, 2);
+    check_identical_and_differs(a, b, d);
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(d);
+    release_case(&c);
+}
+
+/* Density scales 1e-8 (the walk's points carry ~0 weight: nothing forced, the surface part has
+ * T_end ~ 1) and 1e6 (the walk ends at its roulette within a voxel): finite, summing to beauty. */
+static void test_finite_at_extremes(void** state)
+{
+    (void)state;
+    const double scales[2] = {1e-8, 1e6};
+    for (int i = 0; i < 2; ++i) {
+        split_case c = surfaces_case(scales[i]);
+        vbl_render_options o = tt_options(1, 1, 0, 5);
+        o.method = VBL_RENDER_PT;
+        o.max_bounces = 3; /* at 1e6 a shadow ray's tracking takes ~1e5 steps: bound the work */
+        vbl_film* f = NULL;
+        assert_int_equal(vbl_render(c.scene, &o, &f), VBL_SUCCESS);
+        double total = check_sum_to_beauty(f);
+        printf("density scale %g: beauty total %g\n", scales[i], total);
+        assert_true(total > 0.0);
+        vbl_film_release(f);
+        release_case(&c);
+    }
+}
+
+/* The sphere tt_make_sphere(16, 0.9) alone (albedo 0.8, HG g), seen whole from 4 units away through
+ * an 8 x 8 film of fov_deg. */
+static vbl_scene* sphere_scene(double fov_deg, double density_scale, double g, vbl_volume** volume)
+{
+    vbl_camera cam = rt_camera(vbl_v3(0.0, -4.0, 0.0), vbl_v3(0, 0, 0), fov_deg, 8, 8);
+    vbl_scene* scene = tt_scene(&cam);
+    *volume = tt_make_sphere(16, 0.9);
+    assert_int_equal(vbl_scene_add_medium(scene, *volume, density_scale, vbl_v3(0.8, 0.8, 0.8), g, NULL),
+                     VBL_SUCCESS);
+    return scene;
+}
+
+/* Layer means of split on and off over K renders each: |z| <= Z_CRIT on every layer with signal;
+ * returns the se ratio (on / off) of layer `se_layer`. */
+static double check_layers(const vbl_scene* scene, int passes, int spp, int se_layer)
+{
+    const split_config on = {1, passes, spp}, off = {0, passes, spp};
+    double m1[VBL_CLASS_COUNT], s1[VBL_CLASS_COUNT], m0[VBL_CLASS_COUNT], s0[VBL_CLASS_COUNT];
+    layer_stats(render_cfg, scene, &on, K, 11, m1, s1);
+    layer_stats(render_cfg, scene, &off, K, 22, m0, s0);
+    int checked = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        if (!(m0[l] > 0.0)) continue;
+        double se = sqrt(s1[l] * s1[l] + s0[l] * s0[l]);
+        double z = (m1[l] - m0[l]) / se;
+        printf("%-22s split %.6f (se %.6f)  flight %.6f (se %.6f)  z = %+.2f  se ratio %.2f\n", layer_names[l], m1[l],
+               s1[l], m0[l], s0[l], z, s1[l] / s0[l]);
+        assert_true(se > 0.0 && se < 0.2 * m0[l]);
+        assert_true(fabs(z) <= Z_CRIT);
+        ++checked;
+    }
+    assert_true(checked >= 1);
+    return s1[se_layer] / s0[se_layer];
+}
+
+/* A semi-transparent sphere (optical depth ~1 across) seen whole, lit from the camera side by a
+ * distant light: delta tracking scatters in only part of each pixel's samples; the forced point
+ * scatters in every one. volume_direct's standard error must fall below 0.8x (measured 0.5-0.6x). */
+static void test_semi_transparent_sphere(void** state)
+{
+    (void)state;
+    vbl_volume* volume;
+    vbl_scene* scene = sphere_scene(30.0, 1.2, 0.3, &volume);
+    tt_add_distant(scene, vbl_v3(0.2, 1.0, -0.3), 2.0);
+    double ratio = check_layers(scene, 1, 4, VBL_CLASS_VOLUME_DIRECT);
+    assert_true(ratio < 0.8);
+    vbl_scene_release(scene);
+    vt_free(volume);
+}
+
+/* An environment (seen where rays leave the sphere: the walk's T_end) and a quad light facing the
+ * camera behind the sphere's edge (its own transmittance estimate) keep the emission layer's
+ * mean, and every other layer's. */
+static void test_visible_lights(void** state)
+{
+    (void)state;
+    vbl_volume* volume;
+    vbl_scene* scene = sphere_scene(40.0, 1.0, 0.0, &volume);
+    vbl_light env;
+    memset(&env, 0, sizeof env);
+    env.type = VBL_LIGHT_ENVIRONMENT;
+    env.color = vbl_v3(0.3, 0.3, 0.3);
+    assert_int_equal(vbl_scene_add_light(scene, &env), VBL_SUCCESS);
+    vbl_light q = pt_switch_quad_light(vbl_v3(-0.2, 1.2, -0.9), vbl_v3(0, 0, 1), vbl_v3(1, 0, 0), vbl_v3(0, -1, 0), 1.5);
+    assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
+    check_layers(scene, 1, 4, VBL_CLASS_EMISSION);
+    vbl_scene_release(scene);
+    vt_free(volume);
+}
+
+static void test_agrees_with_surfaces(void** state)
+{
+    (void)state;
+    split_case c = surfaces_case(2.0);
+    check_layers(c.scene, 4, 16, VBL_CLASS_SURFACE_DIRECT);
+    release_case(&c);
+}
+
+/* `test_render_pt_camera_split` runs the quick group; `... agreement` the statistical renders. */
+int main(int argc, char** argv)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_deterministic_and_active),
+        cmocka_unit_test(test_finite_at_extremes),
+        cmocka_unit_test(test_semi_transparent_sphere),
+        cmocka_unit_test(test_visible_lights),
+    };
+    const struct CMUnitTest agreement[] = {
+        cmocka_unit_test(test_agrees_with_surfaces),
+    };
+    if (argc > 1 && !strcmp(argv[1], "agreement")) return cmocka_run_group_tests(agreement, NULL, NULL);
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
