@@ -36,9 +36,18 @@ def layers(path):
 
 
 def render(scene, out, extra):
-    cmd = [VBL, "render", scene, "-o", out] + extra
+    """extra: vbl flags; a leading NAME=VALUE token sets that environment variable (experiments)."""
+    env = dict(os.environ)
+    flags = []
+    for tok in extra:
+        name, eq, value = tok.partition("=")
+        if eq and name.isupper() and not name.startswith("-"):
+            env[name] = value
+        else:
+            flags.append(tok)
+    cmd = [VBL, "render", scene, "-o", out] + flags
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 

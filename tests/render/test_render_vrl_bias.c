@@ -5,7 +5,8 @@
  * the sample SE is often far below the true one and a low mean looks significant.
  *   quick: albedo 0.8, 8x8, vrl 24 replicas x 32 passes x 1 spp, pt 32 x 32 spp; |z| < 4, and a
  *          power check: vrl's mean x 0.85 must be rejected (|z| > 4).
- *   slow (argument "slow"): density_scale 1, 2, 4 x albedo 0.3, 0.99, and 3 / 100 light paths. */
+ *   slow (argument "slow"): density_scale 1, 2, 4 x albedo 0.3, 0.99, and 3 / 100 light paths,
+ *          16 replicas each. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -74,15 +75,18 @@ static void test_vrl_box_density1(void** state)
     assert_true(fabs(z_low) > 4.0);
 }
 
+/* 16 replicas per method: at 64 (until session 10, 775 s, most of the suite's time) the standard
+ * errors were 0.3-0.6 % of the means; at 16 they are about 0.6-1.2 % (2.4 % for 3 light paths),
+ * so |z| < 4.5 still rejects a deficit of 6-11 % (the reported one was 19 %). */
 static void test_vrl_box_slow(void** state)
 {
     (void)state;
     const double densities[] = {1.0, 2.0, 4.0}, albedos[] = {0.3, 0.99};
     double mv, se;
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 2; ++j) assert_true(fabs(compare(densities[i], albedos[j], 0, 64, 32, 64, &mv, &se)) < 4.5);
+        for (int j = 0; j < 2; ++j) assert_true(fabs(compare(densities[i], albedos[j], 0, 16, 32, 16, &mv, &se)) < 4.5);
     const int light_paths[] = {3, 100};
-    for (int k = 0; k < 2; ++k) assert_true(fabs(compare(1.0, 0.99, light_paths[k], 48, 32, 64, &mv, &se)) < 4.5);
+    for (int k = 0; k < 2; ++k) assert_true(fabs(compare(1.0, 0.99, light_paths[k], 16, 32, 16, &mv, &se)) < 4.5);
 }
 
 int main(int argc, char** argv)

@@ -36,9 +36,10 @@
  * pt gives it a lower rate at deep vertices (vbl_unbiased_march_adaptive); params.pilot_min_bound
  * replaces the pilot by the mid-bound control in thin blocks (off by default: measured worse).
  *
- * The running product W of finished factors plays Russian roulette once |W| < 1e-4 (survives
- * with |W| / 1e-4, then |W| = 1e-4; ratio tracking's rule on its weight), so lookups stop where
- * T is small even when the minorants are 0.
+ * The running product W of finished factors plays Russian roulette once |W| < rr (params.rr_threshold,
+ * default 1e-4; VBL_UNBIASED_MARCH_DEEP_RR at a deep vertex): it survives with |W| / rr, then
+ * |W| = rr (ratio tracking's rule on its weight), so lookups stop where T is small even when the
+ * minorants are 0.
  *
  * Finite by construction: every sigma_t, D_j and weight is finite (a continued term is the last
  * one times +-theta (k + 1) / k or x2, not a division by a small q), exp(-tau_c) <= 1 and a
@@ -63,7 +64,7 @@ typedef struct vbl_um_piece {
  * geometric tail, and no term is cut (the former order-1000 stop was a truncation). */
 #define VBL_UM_ORDER_HALF 64
 /* Russian roulette on the running estimate W below this (ratio tracking's rule on its weight). */
-#define VBL_RR_MARCH 1e-4
+#define VBL_RR_MARCH VBL_UNBIASED_MARCH_RR
 
 /* A marched estimate R of int (sigma_t - c) over the block's pieces at `rate` points per unit of
  * residual depth r len: m = rate r len; m >= 1: ceil(m) (at most max_points) jittered strata;
@@ -186,7 +187,7 @@ vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 {
     const double k = scale > 1.0 ? scale : 1.0;
     vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k, VBL_UNBIASED_MARCH_RATE * k,
-                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0};
+                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0, 0.0};
     return p;
 }
 
@@ -194,6 +195,7 @@ vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep)
 {
     vbl_unbiased_march_params p = vbl_unbiased_march_defaults(scale);
     if (deep) p.rate = p.pilot_rate = VBL_UNBIASED_MARCH_DEEP_RATE;
+    if (deep) p.rr_threshold = VBL_UNBIASED_MARCH_DEEP_RR;
     p.pilot_min_bound = VBL_UNBIASED_MARCH_PILOT_MIN;
     p.block_strata = 1;
     return p;
@@ -202,18 +204,18 @@ vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep)
 /* Multiplies the running estimate by a finished factor and plays roulette on it once |W| falls
  * below VBL_RR_MARCH: survives with p = |W| / VBL_RR_MARCH and carries W / p (unbiased: the
  * decision depends on factors already drawn only). Returns 0 when the estimate ends at 0. */
-static int vbl_um_times(double* W, double f, vbl_rng* rng)
+static int vbl_um_times(double* W, double f, double rr, vbl_rng* rng)
 {
     *W *= f;
     if (*W == 0.0) return 0;
     const double a = fabs(*W);
-    if (a < VBL_RR_MARCH) {
-        const double keep = a / VBL_RR_MARCH;
+    if (a < rr) {
+        const double keep = a / rr;
         if (!(vbl_rng_uniform(rng) < keep)) {
             *W = 0.0;
             return 0;
         }
-        *W = *W < 0.0 ? -VBL_RR_MARCH : VBL_RR_MARCH;
+        *W = *W < 0.0 ? -rr : rr;
     }
     return 1;
 }
@@ -225,6 +227,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
     if (!(t1 > t0)) return 1.0;
     const double B = params->block_depth > 0.0 ? params->block_depth : VBL_UNBIASED_MARCH_BLOCK_DEPTH;
     const int max_points = params->max_points >= 1 ? params->max_points : 1;
+    const double rr = params->rr_threshold > 0.0 ? fmin(params->rr_threshold, 1.0) : VBL_RR_MARCH;
     const double rate = fmax(params->rate, params->pilot_rate) > 0.0 ? fmax(params->rate, params->pilot_rate)
                                                                        : VBL_UNBIASED_MARCH_RATE;
     const double per_block = ceil(fmin(rate * B, (double)max_points)); /* points of a full block */
@@ -242,7 +245,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
         const double c = 0.5 * (seg.majorant + seg.minorant);
         const double r = 0.5 * (seg.majorant - seg.minorant);
         if (!(r > 0.0)) { /* homogeneous: an exact factor, no lookup */
-            if (!vbl_um_times(&W, exp(-c * len), rng)) return 0.0;
+            if (!vbl_um_times(&W, exp(-c * len), rr, rng)) return 0.0;
             continue;
         }
         /* a segment wider than `wide` x B: its own `wide` blocks of max_points / wide points each
@@ -250,7 +253,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
         if (r * len > (double)wide * B) {
             if (n > 0) {
                 const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
-                if (!vbl_um_times(&W, f, rng)) return 0.0;
+                if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
             }
@@ -258,7 +261,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             for (int i = 0; i < wide; ++i) {
                 const vbl_um_piece one = {seg.t0 + (double)i * l, l, c, r, wide_cap};
                 const double f = vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, rng);
-                if (!vbl_um_times(&W, f, rng)) return 0.0;
+                if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
             }
             continue;
         }
@@ -275,7 +278,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             left = fills ? left - l : 0.0;
             if (fills || n == VBL_UM_BLOCK_PIECES) {
                 const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
-                if (!vbl_um_times(&W, f, rng)) return 0.0;
+                if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
             }
@@ -283,7 +286,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
     }
     if (n > 0) {
         const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
-        if (!vbl_um_times(&W, f, rng)) return 0.0;
+        if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
     }
     return W;
 }
