@@ -36,7 +36,8 @@ def layers(path):
 
 
 def render(scene, out, extra):
-    """extra: vbl flags; a leading NAME=VALUE token sets that environment variable (experiments)."""
+    """extra: vbl flags; a NAME=VALUE token sets that environment variable (experiments), and
+    VBL_BIN=path renders with another build's vbl (an A/B of two commits)."""
     env = dict(os.environ)
     flags = []
     for tok in extra:
@@ -45,7 +46,7 @@ def render(scene, out, extra):
             env[name] = value
         else:
             flags.append(tok)
-    cmd = [VBL, "render", scene, "-o", out] + flags
+    cmd = [env.pop("VBL_BIN", VBL), "render", scene, "-o", out] + flags  # VBL_BIN=path: another build
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
