@@ -12,37 +12,12 @@ with python3-openimageio and numpy.
 usage: /usr/bin/python3 bench/pt_direct_strata/run.py [--out FILE] [--seeds 3] [--passes 8]
          [--ref-passes 192] [--res 64] [--ks 1,2,4,8] [--scenes cloud,cloud_dense,room]
 """
-import argparse, os, resource, subprocess, sys, time
+import argparse, os, subprocess, sys, time
 
 import numpy as np
-import OpenImageIO as oiio
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-VBL = os.path.join(ROOT, "build", "bin", "vbl")
-
-
-def layers(path):
-    buf = oiio.ImageBuf(path)
-    px = buf.get_pixels(oiio.FLOAT)
-    out = {}
-    for i, name in enumerate(buf.spec().channelnames):
-        lay, _, ch = name.rpartition(".")
-        if ch in ("R", "G", "B"):
-            out.setdefault(lay or "beauty", []).append(px[..., i].astype(np.float64))
-    return {k: np.stack(v, -1) for k, v in out.items()}
-
-
-def render(scene, out, extra):
-    cmd = [VBL, "render", scene, "-o", out] + extra
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-
-
-def rmae(img, ref):
-    s = np.abs(ref).sum()
-    return float(np.abs(img - ref).sum() / s) if s > 0 else float("nan")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pt_ab"))
+from renders import ROOT, layers, render, rmae  # noqa: E402
 
 
 def main():
