@@ -266,7 +266,11 @@ typedef enum vbl_render_option_effect {
       NULL, HASH,                                                                                            \
       "pt: the camera segment's free flight split into a forced scattering point (resampled from a ratio-"   \
       "tracking walk at 4x the majorant) and the surface/background behind, weighted by the walk's "        \
-      "transmittance; both traced (false: one delta-tracking free flight)")
+      "transmittance; both traced (false: one delta-tracking free flight)")                                 \
+    X(pt., pt_split_behind_march, split_behind_march, int, BOOL, "pt.split_behind_march",                     \
+      "--pt-split-behind-march", 1, 0, 1, 0, NULL, HASH,                                                     \
+      "pt.camera_split: weight the surface or background behind by its own transmittance estimate (pt's "   \
+      "shadow-ray estimator at pt.surface_direct_rate x its density; false: the walk's ratio tracking)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \
