@@ -63,9 +63,6 @@ typedef struct vbl_um_piece {
 /* Order after which the continuation probability is at most 1/2: N is finite almost surely with a
  * geometric tail, and no term is cut (the former order-1000 stop was a truncation). */
 #define VBL_UM_ORDER_HALF 64
-/* Russian roulette on the running estimate W below this (ratio tracking's rule on its weight). */
-#define VBL_RR_MARCH VBL_UNBIASED_MARCH_RR
-
 /* A marched estimate R of int (sigma_t - c) over the block's pieces at `rate` points per unit of
  * residual depth r len: m = rate r len; m >= 1: ceil(m) (at most max_points) jittered strata;
  * m < 1: one uniform point with probability m, weight 1 / m. Both unbiased; |R| <= sum r len
@@ -194,16 +191,18 @@ vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 vbl_unbiased_march_params vbl_unbiased_march_adaptive(double scale, int deep)
 {
     vbl_unbiased_march_params p = vbl_unbiased_march_defaults(scale);
-    if (deep) p.rate = p.pilot_rate = VBL_UNBIASED_MARCH_DEEP_RATE;
-    if (deep) p.rr_threshold = VBL_UNBIASED_MARCH_DEEP_RR;
+    if (deep) {
+        p.rate = p.pilot_rate = VBL_UNBIASED_MARCH_DEEP_RATE;
+        p.rr_threshold = VBL_UNBIASED_MARCH_DEEP_RR;
+    }
     p.pilot_min_bound = VBL_UNBIASED_MARCH_PILOT_MIN;
     p.block_strata = 1;
     return p;
 }
 
 /* Multiplies the running estimate by a finished factor and plays roulette on it once |W| falls
- * below VBL_RR_MARCH: survives with p = |W| / VBL_RR_MARCH and carries W / p (unbiased: the
- * decision depends on factors already drawn only). Returns 0 when the estimate ends at 0. */
+ * below rr: survives with p = |W| / rr and carries W / p (unbiased: the decision depends on
+ * factors already drawn only). Returns 0 when the estimate ends at 0. */
 static int vbl_um_times(double* W, double f, double rr, vbl_rng* rng)
 {
     *W *= f;
@@ -227,7 +226,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
     if (!(t1 > t0)) return 1.0;
     const double B = params->block_depth > 0.0 ? params->block_depth : VBL_UNBIASED_MARCH_BLOCK_DEPTH;
     const int max_points = params->max_points >= 1 ? params->max_points : 1;
-    const double rr = params->rr_threshold > 0.0 ? fmin(params->rr_threshold, 1.0) : VBL_RR_MARCH;
+    const double rr = params->rr_threshold > 0.0 ? fmin(params->rr_threshold, 1.0) : VBL_UNBIASED_MARCH_RR;
     const double rate = fmax(params->rate, params->pilot_rate) > 0.0 ? fmax(params->rate, params->pilot_rate)
                                                                        : VBL_UNBIASED_MARCH_RATE;
     const double per_block = ceil(fmin(rate * B, (double)max_points)); /* points of a full block */

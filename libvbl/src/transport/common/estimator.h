@@ -157,18 +157,27 @@ static inline vbl_transport_class vbl_class_for_vertices(int visible_is_surface,
     return previous ? VBL_CLASS_VOLUME_FROM_SURFACE : VBL_CLASS_VOLUME_FROM_VOLUME;
 }
 
-/* One estimate of T along origin + t direction for t in [0, t_max] (t_max may be INFINITY),
- * clipped to the media's bounds, with ctx->tracking; 0 when a surface blocks the segment
+/* One estimate of the media's T along origin + t direction for t in [0, t_max] (t_max may be
+ * INFINITY), clipped to the media's bounds, with `tracking`; surfaces are not tested (t_max may be
+ * a surface's own distance). */
+static inline double vbl_ctx_media_transmittance(const vbl_render_context* ctx, vbl_thread_state* ts,
+                                                 vbl_vec3 origin, vbl_vec3 direction, double t_max,
+                                                 const vbl_tracking_settings* tracking, vbl_rng* rng)
+{
+    double t0, t1;
+    if (ctx->extinction->count == 0 ||
+        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
+        return 1.0;
+    return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, origin, direction, t0, t1, tracking, rng);
+}
+
+/* vbl_ctx_media_transmittance with ctx->tracking, and 0 when a surface blocks the segment
  * (vbl_ctx_occluded). */
 static inline double vbl_ctx_transmittance(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                            vbl_vec3 direction, double t_max, vbl_rng* rng)
 {
-    double t0, t1;
     if (vbl_ctx_occluded(ctx, origin, direction, t_max)) return 0.0;
-    if (ctx->extinction->count == 0 ||
-        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
-        return 1.0;
-    return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, origin, direction, t0, t1, &ctx->tracking, rng);
+    return vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_max, &ctx->tracking, rng);
 }
 
 /* Delta-tracking free flight from t = 0 up to t_max (may be INFINITY). Returns 1 with the

@@ -259,23 +259,8 @@ typedef struct vbl_pt_branch {
 } vbl_pt_branch;
 
 /* The split camera segment's lights seen directly (pt_camera_split.h): a quad light before the
- * surface with its own transmittance estimate, the environment (the ray escapes) with the walk's
- * T_end; no MIS at the camera vertex. */
-/* pt.split_behind_march: the camera split's surface or background part weighted by an unbiased
- * march of T(0, t_max) at the camera-visible surface's march density (ctx = surface_first_ctx),
- * instead of the walk's ratio-tracking product: its noise was most of surface_direct's behind
- * thin smoke (docs/readme/performance.md, session 10). Any unbiased estimate of T keeps the part
- * unbiased; it is drawn whatever the walk gave. No occlusion test: t_max is the surface itself. */
-static double vbl_pt_behind_transmittance(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                                          vbl_vec3 direction, double t_max, vbl_rng* rng)
-{
-    double t0, t1;
-    if (ctx->extinction->count == 0 ||
-        !vbl_extinction_ray_bounds(ctx->extinction, origin, direction, 0.0, t_max, &t0, &t1) || !(t1 > t0))
-        return 1.0;
-    return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, origin, direction, t0, t1, &ctx->tracking, rng);
-}
-
+ * surface with its own transmittance estimate, the environment (the ray escapes) with the
+ * segment's T_end; no MIS at the camera vertex. */
 static void vbl_pt_split_visible_lights(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                                         vbl_vec3 direction, double t_surface, double T_end, vbl_vec3 beta,
                                         vbl_rng* rng, vbl_sample_value* out)
@@ -317,7 +302,16 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const int equiangular = vbl_pt_equiangular_active(ctx);
     const int direct_strata = vbl_pt_direct_strata_active(ctx);
     const int camera_split = vbl_pt_camera_split_active(ctx);
+    /* pt.split_behind_march: the camera split's surface or background part weighted by its own
+     * estimate of the segment's T, with surface_first_ctx's tracking (the camera-visible surface's
+     * march density), instead of the walk's ratio-tracking product: the walk's noise was most of
+     * surface_direct's behind thin smoke (docs/readme/performance.md, session 10). Any unbiased
+     * estimate of T keeps that part unbiased; it is drawn whatever the walk gave, wherever T_end
+     * is used: a surface behind, or an environment where the ray escapes. */
     const int split_march = ctx->options.pt.split_behind_march;
+    int split_env = 0;
+    for (int i = 0; split_march && scene->has_visible_lights && i < scene->light_count; ++i)
+        split_env |= scene->lights[i].type == VBL_LIGHT_ENVIRONMENT;
     int resume_surface = 0; /* the next segment is a camera split's surface part */
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
@@ -392,8 +386,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
                                      scene->has_emission ? &e : NULL, rng, &walk);
             const int k = vbl_pt_camera_split_pick(&walk, ff ? u_ff[1] : vbl_rng_uniform(rng));
-            if (split_march && (on_surface || scene->has_visible_lights)) /* the part behind: see split_march */
-                walk.T_end = vbl_pt_behind_transmittance(&surface_first_ctx, ts, origin, direction, t_surface, rng);
+            if (split_march && (on_surface || split_env)) /* the part behind: see split_march */
+                walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface,
+                                                         &surface_first_ctx.tracking, rng);
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
             segment_estimators = 2;
             collided = 0;
@@ -412,8 +407,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                         uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
                         key |= vbl_rng_next_u32(rng);
                         branches[branch_count++] = (vbl_pt_branch){
-                            origin, direction, vertex, vbl_v3_scale(beta, walk.T_end), prev_pdf, path, eq_vertex,
-                            has_eq_vertex, dims.sobol, 1, vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
+                            .origin = origin, .direction = direction, .vertex = vertex,
+                            .beta = vbl_v3_scale(beta, walk.T_end), .prev_pdf = prev_pdf, .path = path,
+                            .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex, .sobol = dims.sobol,
+                            .resume_surface = 1, .rng = vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
                     }
                     beta = vbl_v3_scale(beta, scale);
                 }
@@ -520,8 +517,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
             key |= vbl_rng_next_u32(rng);
             for (int k = 1; k < copies; ++k)
-                branches[branch_count++] = (vbl_pt_branch){origin,        wi, vertex, beta, pdf, path, eq_vertex,
-                                                           has_eq_vertex, 0,  0,  vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)};
+                branches[branch_count++] = (vbl_pt_branch){
+                    .origin = origin, .direction = wi, .vertex = vertex, .beta = beta, .prev_pdf = pdf,
+                    .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex,
+                    .rng = vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)}; /* sobol 0: own streams */
         }
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
         if (copies < 0 && path.events >= 3) {

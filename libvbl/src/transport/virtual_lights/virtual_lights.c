@@ -84,10 +84,8 @@ vbl_result vbl_vrl_select_tree_build(const vbl_render_context* ctx, const vbl_ph
 double vbl_vrl_connect_transmittance(const vbl_render_context* ctx, const vbl_tracking_settings* settings,
                                      vbl_thread_state* ts, vbl_vec3 a, vbl_vec3 dir, double len, vbl_rng* rng)
 {
-    double t0, t1;
     if (vbl_ctx_occluded(ctx, a, dir, len)) return 0.0; /* surfaces block the connection */
-    if (!vbl_extinction_ray_bounds(ctx->extinction, a, dir, 0.0, len, &t0, &t1) || !(t1 > t0)) return 1.0;
-    return vbl_transmittance_estimate(ctx->extinction, &ts->cursor, a, dir, t0, t1, settings, rng);
+    return vbl_ctx_media_transmittance(ctx, ts, a, dir, len, settings, rng);
 }
 
 void vbl_vl_pass_end(const vbl_render_context* ctx, void* store)
