@@ -118,14 +118,18 @@ static void test_sobol_deterministic_and_merges(void** state)
 /* volume_direct of a homogeneous box (rt_make_box: 48^3 voxels of 0.05, density scale 1.2,
  * optical depth ~2.9 across) seen face on through an 8 x 8 film under a distant light, one bounce. */
 #define BOX_K 24
-static int g_box_split; /* pt.camera_split of render_box */
-static vbl_film* render_box(const vbl_scene* scene, const void* sampler, uint64_t seed)
+typedef struct box_config {
+    vbl_pt_sampler sampler;
+    int split; /* pt.camera_split */
+} box_config;
+static vbl_film* render_box(const vbl_scene* scene, const void* config, uint64_t seed)
 {
+    const box_config* cfg = config;
     vbl_render_options o = tt_options(4, 4, 0, seed);
     o.method = VBL_RENDER_PT;
     o.max_bounces = 1;
-    o.pt.sampler = *(const vbl_pt_sampler*)sampler;
-    o.pt.camera_split = g_box_split;
+    o.pt.sampler = cfg->sampler;
+    o.pt.camera_split = cfg->split;
     vbl_film* film = NULL;
     if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
@@ -140,21 +144,21 @@ static void test_sobol_stratifies_free_flight(void** state)
     assert_int_equal(vbl_scene_add_medium(scene, box, 1.2, vbl_v3(0.8, 0.8, 0.8), 0.0, NULL), VBL_SUCCESS);
     tt_add_distant(scene, vbl_v3(0.05, 1.0, 0.05), 2.0); /* along the view: lit from the camera side */
     double m_on[VBL_CLASS_COUNT], se_on[VBL_CLASS_COUNT], m_off[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
-    const vbl_pt_sampler sobol = VBL_PT_SAMPLER_SOBOL, independent = VBL_PT_SAMPLER_INDEPENDENT;
     /* split 0: the delta-tracking flight whose first depth and real/null decision take the pair;
      * split 1 (the default): the pair takes the split walk's first depth and its pick */
-    for (g_box_split = 0; g_box_split < 2; ++g_box_split) {
+    for (int split = 0; split < 2; ++split) {
+        const box_config sobol = {VBL_PT_SAMPLER_SOBOL, split}, independent = {VBL_PT_SAMPLER_INDEPENDENT, split};
         layer_stats(render_box, scene, &sobol, BOX_K, 31, m_on, se_on);
         layer_stats(render_box, scene, &independent, BOX_K, 32, m_off, se_off);
         const int l = VBL_CLASS_VOLUME_DIRECT;
         double z = (m_on[l] - m_off[l]) / sqrt(se_on[l] * se_on[l] + se_off[l] * se_off[l]);
         printf("box volume_direct, camera_split %d: sobol %.6f (se %.2e)  independent %.6f (se %.2e)  z = %+.2f  se "
                "ratio %.3f\n",
-               g_box_split, m_on[l], se_on[l], m_off[l], se_off[l], z, se_on[l] / se_off[l]);
+               split, m_on[l], se_on[l], m_off[l], se_off[l], z, se_on[l] / se_off[l]);
         assert_true(m_off[l] > 0.0 && fabs(z) <= Z_CRIT);
         /* the standard errors' own relative error is about 1 / sqrt(2 (BOX_K - 1)) = 15 %; the split's
          * forced point already removes the flight's 0/1 noise, so Sobol has less left to stratify */
-        assert_true(se_on[l] < (g_box_split ? 0.8 : 0.5) * se_off[l]);
+        assert_true(se_on[l] < (split ? 0.8 : 0.5) * se_off[l]);
     }
     vbl_scene_release(scene);
     vt_free(box);
