@@ -428,7 +428,7 @@ static vbl_result placement_pass_begin(const vbl_render_context* ctx, void** sto
 }
 
 static const vbl_estimator placement_estimator = {"bn_media", 1, placement_pass_begin, vbl_vl_camera_sample,
-                                                  vbl_vl_pass_end};
+                                                  vbl_vl_pass_end, vbl_vl_camera_aovs};
 
 /* Calibration: medium VPLs per light path of the vpl store (one pass, no camera work). */
 static double g_calibration_vpls;
@@ -448,7 +448,7 @@ static void calibration_camera_sample(const vbl_render_context* ctx, const void*
 }
 
 static const vbl_estimator calibration_estimator = {"bn_media_calibration", 1, calibration_pass_begin,
-                                                    calibration_camera_sample, vbl_vl_pass_end};
+                                                    calibration_camera_sample, vbl_vl_pass_end, NULL};
 
 /* ======================================================================================== */
 /* ---- scenes, reference, error ---------------------------------------------------------- */

@@ -39,7 +39,7 @@ static void flag_sample(const vbl_render_context* ctx, const void* store, vbl_th
     if ((int)ctx->pass == g_cancel_pass && sample->pixel_index == g_cancel_pixel) g_cancel = 1;
 }
 
-static const vbl_estimator flag_estimator = {"cancel_test", 0, NULL, flag_sample, NULL};
+static const vbl_estimator flag_estimator = {"cancel_test", 0, NULL, flag_sample, NULL, NULL};
 
 
 static int setup(void** state)

@@ -106,7 +106,7 @@ static void no_emission_camera_sample(const vbl_render_context* ctx, const void*
 {
     (void)ctx, (void)store, (void)ts, (void)sample, (void)rng, (void)out;
 }
-static const vbl_estimator no_emission_estimator = {"test-no-emission", 0, NULL, no_emission_camera_sample, NULL};
+static const vbl_estimator no_emission_estimator = {"test-no-emission", 0, NULL, no_emission_camera_sample, NULL, NULL};
 
 static void emission_box(int n)
 {

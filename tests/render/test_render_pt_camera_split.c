@@ -50,6 +50,7 @@ static void release_case(split_case* c)
 typedef struct split_config {
     int split, passes, spp;
     int walk_behind; /* 1: pt.split_behind_march false (the walk's T_end weights the part behind) */
+    int paths;       /* pt.split_paths (0: the default, 1) */
 } split_config;
 
 static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_t seed)
@@ -59,6 +60,7 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     o.method = VBL_RENDER_PT;
     o.pt.camera_split = cfg->split;
     o.pt.split_behind_march = !cfg->walk_behind;
+    if (cfg->paths > 0) o.pt.split_paths = cfg->paths;
     vbl_film* film = NULL;
     if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
@@ -123,13 +125,14 @@ static vbl_scene* sphere_scene(double fov_deg, double density_scale, double g, v
     return scene;
 }
 
-/* Layer means of configurations `on` and `off` over K renders each: |z| <= Z_CRIT on every layer
+/* Layer means of configurations `on` and `off` over `renders` renders each: |z| <= Z_CRIT on every layer
  * with signal; returns the se ratio (on / off) of layer `se_layer`. */
-static double check_configs(const vbl_scene* scene, const split_config* on, const split_config* off, int se_layer)
+static double check_configs(const vbl_scene* scene, const split_config* on, const split_config* off, int se_layer,
+                            int renders)
 {
     double m1[VBL_CLASS_COUNT], s1[VBL_CLASS_COUNT], m0[VBL_CLASS_COUNT], s0[VBL_CLASS_COUNT];
-    layer_stats(render_cfg, scene, on, K, 11, m1, s1);
-    layer_stats(render_cfg, scene, off, K, 22, m0, s0);
+    layer_stats(render_cfg, scene, on, renders, 11, m1, s1);
+    layer_stats(render_cfg, scene, off, renders, 22, m0, s0);
     int checked = 0;
     for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
         if (!(m0[l] > 0.0)) continue;
@@ -148,8 +151,8 @@ static double check_configs(const vbl_scene* scene, const split_config* on, cons
 /* The split (defaults) against the flight. */
 static double check_layers(const vbl_scene* scene, int passes, int spp, int se_layer)
 {
-    const split_config on = {1, passes, spp, 0}, off = {0, passes, spp, 0};
-    return check_configs(scene, &on, &off, se_layer);
+    const split_config on = {1, passes, spp, 0, 0}, off = {0, passes, spp, 0, 0};
+    return check_configs(scene, &on, &off, se_layer, K);
 }
 
 /* A semi-transparent sphere (optical depth ~1 across) seen whole, lit from the camera side by a
@@ -198,7 +201,7 @@ static void test_behind_march(void** state)
 {
     (void)state;
     split_case c = surfaces_case(0.5);
-    const split_config march = {1, 2, 4, 0}, walk = {1, 2, 4, 1};
+    const split_config march = {1, 2, 4, 0, 0}, walk = {1, 2, 4, 1, 0};
     vbl_film* a = render_threads(c.scene, 1, 0, 1);
     vbl_film* b = render_threads(c.scene, 1, 0, 2);
     vbl_film* d = render_threads(c.scene, 1, 1, 2);
@@ -206,8 +209,109 @@ static void test_behind_march(void** state)
     vbl_film_release(a);
     vbl_film_release(b);
     vbl_film_release(d);
-    check_configs(c.scene, &march, &walk, VBL_CLASS_SURFACE_DIRECT);
+    check_configs(c.scene, &march, &walk, VBL_CLASS_SURFACE_DIRECT, K);
     release_case(&c);
+}
+
+/* pt.split_paths 3: bit-identical at 1 and 2 threads and different from one path; in the
+ * semi-transparent sphere every layer's mean agrees with one path's over 2K renders, and
+ * volume_from_volume's standard error falls (three paths from stratified points of one walk, the
+ * roulette scaled by 3: measured 0.56-0.58x over 96 renders; without the scaled roulette the
+ * copies die by the third event). */
+static void test_split_paths(void** state)
+{
+    (void)state;
+    vbl_volume* volume;
+    vbl_scene* scene = sphere_scene(30.0, 1.2, 0.3, &volume);
+    tt_add_distant(scene, vbl_v3(0.2, 1.0, -0.3), 2.0);
+    const split_config three = {1, 1, 4, 0, 3}, one = {1, 1, 4, 0, 1};
+    vbl_film* a = render_cfg(scene, &three, 5);
+    vbl_render_options o = tt_options(1, 4, 0, 5);
+    o.method = VBL_RENDER_PT;
+    o.pt.split_paths = 3;
+    o.threads = 1;
+    vbl_film* b = NULL;
+    assert_int_equal(vbl_render(scene, &o, &b), VBL_SUCCESS);
+    vbl_film* d = render_cfg(scene, &one, 5);
+    check_identical_and_differs(a, b, d);
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(d);
+    const double ratio = check_configs(scene, &three, &one, VBL_CLASS_VOLUME_FROM_VOLUME, 2 * K);
+    printf("split_paths 3: volume_from_volume se ratio %.2f\n", ratio);
+    assert_true(ratio < 0.8);
+    vbl_scene_release(scene);
+    vt_free(volume);
+}
+
+/* Image mean of alpha (the beauty's A) and of Z over the pixels with a hit (Z < VBL_FILM_Z_MISS). */
+static void aov_means(const vbl_film* film, double* alpha, double* z)
+{
+    int c = 0;
+    const float* beauty = vbl_film_layer(film, "", &c);
+    const float* depth = vbl_film_layer(film, "Z", NULL);
+    assert_non_null(beauty);
+    assert_non_null(depth);
+    assert_int_equal(c, 4);
+    const int n = vbl_film_width(film) * vbl_film_height(film);
+    double sa = 0.0, sz = 0.0;
+    int hits = 0;
+    for (int i = 0; i < n; ++i) {
+        sa += beauty[4 * i + 3];
+        if (depth[i] < 0.5f * VBL_FILM_Z_MISS) {
+            sz += depth[i];
+            ++hits;
+        }
+    }
+    assert_true(hits > 0);
+    *alpha = sa / n;
+    *z = sz / hits;
+}
+
+/* With the split, alpha and Z come from pt's own walk (1 - T_end; delta tracking on the walk's
+ * points) instead of render.c's transmittance estimate and free flight: the same means over
+ * K renders (Z has the same law: the walk's thinned points are a delta-tracking flight), in the
+ * Lambert box with thin smoke (surfaces behind) and in the sphere alone (misses). */
+static void test_aovs_from_walk(void** state)
+{
+    (void)state;
+    vbl_volume* volume;
+    vbl_scene* sphere = sphere_scene(40.0, 1.0, 0.0, &volume);
+    tt_add_distant(sphere, vbl_v3(0.2, 1.0, -0.3), 2.0);
+    split_case box = surfaces_case(0.5);
+    const vbl_scene* scenes[2] = {sphere, box.scene};
+    for (int sc = 0; sc < 2; ++sc) {
+        double m[2][2] = {{0}}, m2[2][2] = {{0}};
+        for (int split = 0; split < 2; ++split) {
+            const split_config cfg = {split, 1, 8, 0, 0};
+            for (int k = 0; k < K; ++k) {
+                vbl_film* f = render_cfg(scenes[sc], &cfg, 100 + 7919u * (uint64_t)k);
+                double a, z;
+                aov_means(f, &a, &z);
+                m[split][0] += a, m2[split][0] += a * a;
+                m[split][1] += z, m2[split][1] += z * z;
+                vbl_film_release(f);
+            }
+        }
+        for (int q = 0; q < 2; ++q) {
+            double mean[2], var[2];
+            for (int split = 0; split < 2; ++split) {
+                mean[split] = m[split][q] / K;
+                var[split] = fmax((m2[split][q] - K * mean[split] * mean[split]) / (K - 1), 0.0) / K;
+            }
+            const double se = sqrt(var[0] + var[1]);
+            printf("scene %d %s: walk %.5f  driver %.5f  (se %.5f)\n", sc, q ? "Z" : "alpha", mean[1], mean[0], se);
+            if (se == 0.0) { /* the box's alpha: every camera ray ends on a wall, 1 in both */
+                assert_true(mean[0] == 1.0 && mean[1] == 1.0 && q == 0);
+                continue;
+            }
+            assert_true(se < 0.1 * mean[0]);
+            assert_true(fabs(mean[1] - mean[0]) <= Z_CRIT * se);
+        }
+    }
+    vbl_scene_release(sphere);
+    vt_free(volume);
+    release_case(&box);
 }
 
 static void test_agrees_with_surfaces(void** state)
@@ -227,6 +331,8 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_semi_transparent_sphere),
         cmocka_unit_test(test_visible_lights),
         cmocka_unit_test(test_behind_march),
+        cmocka_unit_test(test_split_paths),
+        cmocka_unit_test(test_aovs_from_walk),
     };
     const struct CMUnitTest agreement[] = {
         cmocka_unit_test(test_agrees_with_surfaces),

@@ -70,7 +70,7 @@ static void wrapped_end(const vbl_render_context* ctx, void* store)
     if (g_inner->pass_end) g_inner->pass_end(ctx, store);
 }
 
-static const vbl_estimator wrapped = {"stop_phases_test", 1, wrapped_begin, wrapped_sample, wrapped_end};
+static const vbl_estimator wrapped = {"stop_phases_test", 1, wrapped_begin, wrapped_sample, wrapped_end, NULL};
 
 static int setup(void** state)
 {

@@ -174,7 +174,7 @@ static void probe_end(const vbl_render_context* ctx, void* store)
     free(s);
 }
 
-static const vbl_estimator probe = {"caustic-probe", 1, probe_begin, probe_sample, probe_end};
+static const vbl_estimator probe = {"caustic-probe", 1, probe_begin, probe_sample, probe_end, NULL};
 
 /* ---- fast ----------------------------------------------------------------------------------- */
 

@@ -95,7 +95,8 @@ static vbl_result vrl_probe_begin(const vbl_render_context* ctx, void** store)
         if (g_max_bounces >= 0 && p->surface_vsls[i].bounce + 2 > g_max_bounces) ++g_vsl_bad_bounce;
     return VBL_SUCCESS;
 }
-static const vbl_estimator vrl_probe = {"vrl-probe", 1, vrl_probe_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator vrl_probe = {"vrl-probe", 1, vrl_probe_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 static vbl_result vrl_r05_begin(const vbl_render_context* ctx, void** store)
 {
@@ -103,7 +104,8 @@ static vbl_result vrl_r05_begin(const vbl_render_context* ctx, void** store)
     s.surface_radius0 = 0.5;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator vrl_r05 = {"vrl-r05", 1, vrl_r05_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator vrl_r05 = {"vrl-r05", 1, vrl_r05_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 /* What virtual_beam_lights.c gets (the lines handed to the lead): surface_from_volume by VBL eqs 8-9 with
  * R_p from R_0 = 0.5 (eq 11) on the VRL store, and in the volume_direct slot the unbiased eq 6
@@ -126,7 +128,7 @@ static void vbl_surface_sample(const vbl_render_context* ctx, const void* store,
     vbl_surface_gather_hit(ctx, ts, vbl_vl_photons(store), &gs, sample, rng, &tmp);
     out->L[VBL_CLASS_VOLUME_DIRECT] = tmp.L[VBL_CLASS_SURFACE_FROM_VOLUME];
 }
-static const vbl_estimator vbl_surface = {"vbl-surface", 1, vrl_r05_begin, vbl_surface_sample, vbl_vl_pass_end};
+static const vbl_estimator vbl_surface = {"vbl-surface", 1, vrl_r05_begin, vbl_surface_sample, vbl_vl_pass_end, NULL};
 
 /* ---- fast ---------------------------------------------------------------------------------- */
 

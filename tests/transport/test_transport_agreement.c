@@ -36,7 +36,8 @@ static vbl_result long_vrl_begin(const vbl_render_context* ctx, void** store)
     s.samples = 2;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator long_vrl = {"vrl-long", 1, long_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator long_vrl = {"vrl-long", 1, long_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 static vbl_result rr_vrl_begin(const vbl_render_context* ctx, void** store)
 {
@@ -45,7 +46,8 @@ static vbl_result rr_vrl_begin(const vbl_render_context* ctx, void** store)
     s.rr_min_probability = 0.2;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator rr_vrl = {"vrl-rr", 1, rr_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator rr_vrl = {"vrl-rr", 1, rr_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 /* light-tree selection: 4 VRLs per camera sample (vrl_tree.h) */
 static vbl_result sel_vrl_begin(const vbl_render_context* ctx, void** store)
@@ -54,7 +56,8 @@ static vbl_result sel_vrl_begin(const vbl_render_context* ctx, void** store)
     s.select = 4;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator sel_vrl = {"vrl-select", 1, sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 /* transmittance-aware pair sampling (sampling/vrl_camera_mis.h) with the low roulette threshold */
 static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
@@ -64,7 +67,8 @@ static vbl_result mis_vrl_begin(const vbl_render_context* ctx, void** store)
     s.transmittance_rr = 0.01;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator mis_vrl = {"vrl-camera-mis", 1, mis_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 /* camera transmittance x 1/distance pair sampling (sampling/vrl_tc_pair.h, vrl.pair_sampler =
  * transmittance), alone and with light-tree selection, and its free-flight form (free_flight) */
@@ -74,7 +78,8 @@ static vbl_result tc_vrl_begin(const vbl_render_context* ctx, void** store)
     s.camera_mis = VBL_VRL_PAIR_TRANSMITTANCE;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator tc_vrl = {"vrl-tc", 1, tc_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator tc_vrl = {"vrl-tc", 1, tc_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 static vbl_result tc_sel_vrl_begin(const vbl_render_context* ctx, void** store)
 {
     vbl_vrl_settings s = VBL_VRL_SETTINGS_DEFAULT;
@@ -88,8 +93,10 @@ static vbl_result ff_vrl_begin(const vbl_render_context* ctx, void** store)
     s.camera_mis = VBL_VRL_PAIR_FREE_FLIGHT;
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_ray, &s, store);
 }
-static const vbl_estimator ff_vrl = {"vrl-free-flight", 1, ff_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
-static const vbl_estimator tc_sel_vrl = {"vrl-tc-select", 1, tc_sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+static const vbl_estimator ff_vrl = {"vrl-free-flight", 1, ff_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
+static const vbl_estimator tc_sel_vrl = {"vrl-tc-select", 1, tc_sel_vrl_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
 
 typedef struct scene_case {
     vbl_scene* scene;

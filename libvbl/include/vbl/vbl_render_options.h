@@ -270,7 +270,11 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_split_behind_march, split_behind_march, int, BOOL, "pt.split_behind_march",                     \
       "--pt-split-behind-march", 1, 0, 1, 0, NULL, HASH,                                                     \
       "pt.camera_split: weight the surface or background behind by its own transmittance estimate (pt's "   \
-      "shadow-ray estimator at pt.surface_direct_rate x its density; false: the walk's ratio tracking)")
+      "shadow-ray estimator at pt.surface_direct_rate x its density; false: the walk's ratio tracking)")     \
+    X(pt., pt_split_paths, split_paths, int, INT, "pt.split_paths", "--pt-split-paths", 1, 1, 16, 0, NULL,    \
+      HASH,                                                                                                  \
+      "pt.camera_split: N forced scattering points per camera sample, stratified over the walk's weights, " \
+      "each continued by its own path with 1/N of the weight (one camera walk serves N paths)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

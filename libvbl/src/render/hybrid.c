@@ -119,4 +119,4 @@ static void vbl_hybrid_pass_end(const vbl_render_context* ctx, void* store)
 
 /* correlated: the method's samples of a pass share its light store */
 const vbl_estimator vbl_estimator_hybrid = {"hybrid", 1, vbl_hybrid_pass_begin, vbl_hybrid_camera_sample,
-                                            vbl_hybrid_pass_end};
+                                            vbl_hybrid_pass_end, NULL};

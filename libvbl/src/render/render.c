@@ -59,6 +59,8 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     /* pt.sampler = sobol: the pixel position is pair 0 of the pixel's Sobol sequence (sobol.h) */
     const int sobol = ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL && est->camera_sample == vbl_pt_camera_sample;
     const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
+    /* the estimator's own AOVs (pt's camera walk) instead of a transmittance and a flight here */
+    const int est_aovs = est->camera_aovs && est->camera_aovs(ctx, store);
     for (int s = 0; s < spp; ++s) {
         if ((s & 15) == 15 && vbl_render_stop_requested(ctx)) return; /* the driver drops the pass */
         vbl_camera_sample cs;
@@ -87,7 +89,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
 
         /* AOVs: alpha = 1 on opaque surfaces, else 1 - T(camera ray); Z = the delta-tracked
          * first collision or the surface hit, whichever comes first */
-        if (ctx->extinction->count > 0 || surface_hit) {
+        if (!est_aovs && (ctx->extinction->count > 0 || surface_hit)) {
             acc->alpha += surface_hit ? 1.0 : 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
             double t = 0.0;
             const vbl_segment ray = vbl_segment_make(cs.origin, cs.direction, 0.0, cs.t_max);
@@ -104,6 +106,13 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         vbl_sample_value value;
         memset(&value, 0, sizeof value);
         est->camera_sample(ctx, store, ts, &cs, &rng, &value);
+        if (est_aovs) {
+            acc->alpha += value.aovs.alpha;
+            if (value.aovs.depth_hit) {
+                acc->depth += value.aovs.depth;
+                acc->depth_hits += 1.0;
+            }
+        }
         double beauty[3] = {0.0, 0.0, 0.0};
         for (int c = 0; c < VBL_CLASS_COUNT; ++c) {
             acc->L[c][0] += value.L[c].x;

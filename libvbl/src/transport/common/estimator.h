@@ -107,8 +107,17 @@ static inline int vbl_camera_sample_ray(const vbl_scene* scene, vbl_camera_sampl
     return 1;
 }
 
+/* The camera sample's AOVs, where its estimator supplies them (vbl_estimator.camera_aovs): alpha
+ * (1 on an opaque surface, else an estimate of 1 - T of the camera ray) and Z (the first collision
+ * of a delta-tracking flight along the ray, else the surface; depth_hit 0: neither). */
+typedef struct vbl_sample_aovs {
+    double alpha, depth;
+    int depth_hit;
+} vbl_sample_aovs;
+
 typedef struct vbl_sample_value {
     vbl_vec3 L[VBL_CLASS_COUNT];
+    vbl_sample_aovs aovs; /* read only where camera_aovs says the estimator fills it */
 } vbl_sample_value;
 
 typedef struct vbl_estimator {
@@ -120,6 +129,9 @@ typedef struct vbl_estimator {
     void (*camera_sample)(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
     void (*pass_end)(const vbl_render_context* ctx, void* store); /* may be NULL */
+    /* 1 if camera_sample fills out->aovs in this render (its own walk along the camera ray gives
+     * them at no cost), so the driver does not track the ray again for them; NULL: never */
+    int (*camera_aovs)(const vbl_render_context* ctx, const void* store);
 } vbl_estimator;
 
 /* The estimator of a method, or NULL if it is not built yet (render/estimators.c). */

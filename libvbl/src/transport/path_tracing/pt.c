@@ -255,6 +255,8 @@ typedef struct vbl_pt_branch {
     int has_eq_vertex;
     int sobol;          /* the copy's 2D pairs: Sobol (camera split) or its stream (guide copies) */
     int resume_surface; /* 1: the camera split's surface part (the segment's media already walked) */
+    double resume_t;    /* >= 0: pt.split_paths' copy, scattering at this distance on the camera ray */
+    double rr_scale;    /* the roulette's throughput scale (the split's path count: see rr_scale) */
     vbl_rng rng;
 } vbl_pt_branch;
 
@@ -313,6 +315,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     for (int i = 0; split_march && scene->has_visible_lights && i < scene->light_count; ++i)
         split_env |= scene->lights[i].type == VBL_LIGHT_ENVIRONMENT;
     int resume_surface = 0; /* the next segment is a camera split's surface part */
+    double resume_t = -1.0; /* >= 0: the next segment scatters there (a pt.split_paths copy) */
+    const int split_paths = camera_split ? ctx->options.pt.split_paths : 1;
+    /* the throughput roulette compares N beta, not beta, on the N paths of pt.split_paths: each
+     * carries 1/N of the camera sample's weight, and q = beta would end all but ~1 of them by the
+     * third event, undoing the split */
+    double rr_scale = 1.0;
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
     vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
@@ -380,18 +388,53 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             resume_surface = 0;
             collided = 0;
             segment_estimators = 0;
+        } else if (resume_t >= 0.0) { /* a pt.split_paths copy: beta holds W / N; times sigma_t / sigma_s here */
+            t = resume_t;
+            resume_t = -1.0;
+            const vbl_vec3 x = vbl_v3_madd(origin, direction, t);
+            sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, x, components);
+            const double ss = vbl_pt_camera_split_sigma_s(ctx, ts, x, sigma_t, components);
+            collided = sigma_t > 0.0 && ss > 0.0 && isfinite(sigma_t / ss);
+            if (collided) beta = vbl_v3_scale(beta, sigma_t / ss);
+            split_end = !collided;
+            segment_estimators = 0;
         } else if (camera_split && path.events == 0) { /* pt_camera_split.h */
             vbl_pt_split_walk walk;
+            walk.want_depth = 1;
             vbl_emission_visit_state e = {scene, &ts->emission, beta, &out->L[VBL_CLASS_VOLUME_EMISSION]};
             vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
                                      scene->has_emission ? &e : NULL, rng, &walk);
-            const int k = vbl_pt_camera_split_pick(&walk, ff ? u_ff[1] : vbl_rng_uniform(rng));
+            const double u_pick = ff ? u_ff[1] : vbl_rng_uniform(rng);
+            /* pt.split_paths = N: the points of N strata of the walk's weights, (j + u) / N, each
+             * continued with W / N (unbiased: each stratum's pick has density w_i / W over its
+             * stratum's share, so the N picks' mean estimates the sum; Novak et al. 2018, sec. 5.2,
+             * with stratified resampling); copy j > 0 waits on the stack with a stream of its own */
+            const int k = vbl_pt_camera_split_pick(&walk, u_pick / split_paths);
+            /* the AOVs (vbl_pt_camera_aovs): alpha 1 - the walk's T^ (in [0, 1], unlike the
+             * march's estimate below), Z the walk's delta-tracking collision, else the surface */
+            out->aovs.alpha = on_surface ? 1.0 : 1.0 - walk.T_end;
+            out->aovs.depth_hit = walk.t_first >= 0.0 || on_surface;
+            out->aovs.depth = walk.t_first >= 0.0 ? walk.t_first : t_surface;
             if (split_march && (on_surface || split_env)) /* the part behind: see split_march */
                 walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface,
                                                          &surface_first_ctx.tracking, rng);
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
             segment_estimators = 2;
             collided = 0;
+            if (k >= 0 && split_paths > 1) { /* the other strata's points, traced after this path */
+                uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
+                key |= vbl_rng_next_u32(rng);
+                const vbl_vec3 copy_beta = vbl_v3_scale(beta, walk.cum[walk.n - 1] / split_paths);
+                for (int j = 1; j < split_paths; ++j) { /* N <= 16: the stack (empty here) holds them */
+                    const int kj = vbl_pt_camera_split_pick(&walk, (j + u_pick) / split_paths);
+                    if (kj < 0) continue;
+                    branches[branch_count++] = (vbl_pt_branch){
+                        .origin = origin, .direction = direction, .vertex = vertex, .beta = copy_beta,
+                        .prev_pdf = prev_pdf, .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex,
+                        .sobol = 0, .resume_t = walk.t[kj], .rr_scale = split_paths,
+                        .rng = vbl_rng_make(key, (uint64_t)j, VBL_RNG_DOMAIN_GUIDE)};
+                }
+            }
             if (k >= 0) { /* the medium part: throughput W sigma_t / sigma_s(p_k) into the collision code */
                 t = walk.t[k];
                 vbl_vec3 x = vbl_v3_madd(origin, direction, t);
@@ -400,7 +443,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 vbl_medium_point_from_components(scene, components, &mp);
                 vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp);
                 const double ss = (mp.sigma_s.x + mp.sigma_s.y + mp.sigma_s.z) / 3.0;
-                const double scale = walk.cum[walk.n - 1] * sigma_t / ss;
+                const double scale = walk.cum[walk.n - 1] / split_paths * sigma_t / ss;
                 if (sigma_t > 0.0 && ss > 0.0 && isfinite(scale)) {
                     collided = 1;
                     if (on_surface && walk.T_end != 0.0) { /* the surface part waits on the stack */
@@ -410,9 +453,11 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                             .origin = origin, .direction = direction, .vertex = vertex,
                             .beta = vbl_v3_scale(beta, walk.T_end), .prev_pdf = prev_pdf, .path = path,
                             .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex, .sobol = dims.sobol,
-                            .resume_surface = 1, .rng = vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
+                            .resume_surface = 1, .resume_t = -1.0, .rr_scale = 1.0,
+                            .rng = vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
                     }
                     beta = vbl_v3_scale(beta, scale);
+                    rr_scale = split_paths;
                 }
             }
             if (!collided) {
@@ -519,12 +564,13 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             for (int k = 1; k < copies; ++k)
                 branches[branch_count++] = (vbl_pt_branch){
                     .origin = origin, .direction = wi, .vertex = vertex, .beta = beta, .prev_pdf = pdf,
-                    .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex,
+                    .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex, .resume_t = -1.0,
+                    .rr_scale = rr_scale,
                     .rng = vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)}; /* sobol 0: own streams */
         }
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
         if (copies < 0 && path.events >= 3) {
-            double q = fmin(1.0, vbl_v3_max_component(beta));
+            double q = fmin(1.0, rr_scale * vbl_v3_max_component(beta));
             if ((dims.sobol && u_rr >= 0.0 ? u_rr : vbl_rng_uniform(rng)) >= q) break;
             beta = vbl_v3_scale(beta, 1.0 / q);
         }
@@ -537,9 +583,19 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         prev_pdf = b->prev_pdf, path = b->path, eq_vertex = b->eq_vertex, has_eq_vertex = b->has_eq_vertex;
         dims.sobol = b->sobol;
         resume_surface = b->resume_surface;
+        resume_t = b->resume_t;
+        rr_scale = b->rr_scale;
         branch_rng = b->rng;
         rng = &branch_rng;
     }
 }
 
-const vbl_estimator vbl_estimator_pt = {"pt", 0, NULL, vbl_pt_camera_sample, NULL};
+/* With the camera split, the walk along every camera ray gives the alpha and Z AOVs (render.c
+ * would otherwise track each camera ray twice more for them: 8-17 % of a pass in the race clouds). */
+static int vbl_pt_camera_aovs(const vbl_render_context* ctx, const void* store)
+{
+    (void)store;
+    return vbl_pt_camera_split_active(ctx);
+}
+
+const vbl_estimator vbl_estimator_pt = {"pt", 0, NULL, vbl_pt_camera_sample, NULL, vbl_pt_camera_aovs};

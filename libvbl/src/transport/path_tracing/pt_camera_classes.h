@@ -33,4 +33,8 @@
 void vbl_pt_camera_classes(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_camera_sample* sample,
                            unsigned classes, vbl_rng* rng, vbl_sample_value* out);
 
+/* 1 if vbl_pt_camera_classes(ctx, .., classes, ..) traces pt on every camera sample of this render
+ * with pt.camera_split, so that it also fills out->aovs (vbl_estimator.camera_aovs). */
+int vbl_pt_camera_classes_aovs(const vbl_render_context* ctx, unsigned classes);
+
 #endif

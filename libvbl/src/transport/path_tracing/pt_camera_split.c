@@ -14,9 +14,8 @@ int vbl_pt_camera_split_active(const vbl_render_context* ctx)
     return ctx->options.pt.camera_split && ctx->extinction->count > 0;
 }
 
-/* Mean-RGB sigma_s of the media at p from their extinctions there (0 where nothing scatters). */
-static double vbl_pt_split_sigma_s(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 p, double sigma_t,
-                                   const double* comps)
+double vbl_pt_camera_split_sigma_s(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 p, double sigma_t,
+                                  const double* comps)
 {
     if (!(sigma_t > 0.0)) return 0.0;
     vbl_medium_point mp;
@@ -32,6 +31,16 @@ static void vbl_pt_split_emit(vbl_emission_visit_state* e, vbl_vec3 beta, double
     vbl_emission_visit(e, p, mu, comps);
 }
 
+/* The Z AOV's search past a walk that stopped at t: a delta-tracking flight over (t, t1). */
+static void vbl_pt_split_depth_rest(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                                    vbl_vec3 direction, double t, double t1, vbl_rng* rng, vbl_pt_split_walk* walk)
+{
+    double d, sigma_t, comps[VBL_MAX_MEDIA];
+    if (vbl_free_flight_sample_pattern(ctx->extinction, &ts->cursor, origin, direction, t, t1,
+                                       ctx->tracking.use_global_majorant, rng, NULL, &d, &sigma_t, comps, NULL, NULL))
+        walk->t_first = d;
+}
+
 void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                               vbl_vec3 direction, double t_surface, double u_first, vbl_vec3 beta,
                               vbl_emission_visit_state* emission, vbl_rng* rng, vbl_pt_split_walk* walk)
@@ -39,10 +48,15 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
     const vbl_extinction* ext = ctx->extinction;
     walk->n = 0;
     walk->T_end = 1.0;
+    walk->t_first = -1.0;
     double t0, t1;
     if (ext->count == 0 || !vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_surface, &t0, &t1) ||
         !(t1 > t0))
         return;
+    /* the Z AOV: delta tracking on the walk's own tentative points (each a real collision with
+     * probability sigma_t / mu: the points are Poisson at rate mu >= sigma_t); where the walk
+     * stops before one is found, a free flight from its last point (memoryless) ends the search */
+    int seek_depth = walk->want_depth;
     const int use_global = ctx->tracking.use_global_majorant;
     double T = 1.0, W = 0.0, t_last = t0;
     double tau = u_first >= 0.0 && u_first < 1.0 ? -log1p(-u_first) : -1.0; /* carried depth (vbl_exp_carry_step) */
@@ -63,10 +77,11 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
                 int hit = vbl_free_flight_sample_pattern(ext, &ts->cursor, origin, direction, t_last, t1, use_global,
                                                          rng, NULL, &d, &sigma_t, comps,
                                                          emission ? vbl_emission_visit : NULL, emission);
+                if (seek_depth && hit) walk->t_first = d;
                 walk->n = n;
                 walk->T_end = hit ? 0.0 : T;
                 if (hit) { /* the collision estimator: T^ sigma_s / sigma_t (the store has one spare entry) */
-                    double ss = vbl_pt_split_sigma_s(ctx, ts, vbl_v3_madd(origin, direction, d), sigma_t, comps);
+                    double ss = vbl_pt_camera_split_sigma_s(ctx, ts, vbl_v3_madd(origin, direction, d), sigma_t, comps);
                     double w = sigma_t > 0.0 ? T * ss / sigma_t : 0.0;
                     if (w > 0.0 && isfinite(w)) {
                         walk->t[n] = d;
@@ -79,20 +94,26 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
             const vbl_vec3 p = vbl_v3_madd(origin, direction, t);
             const double sigma_t = vbl_extinction_eval(ext, &ts->cursor, p, comps);
             if (emission && sigma_t > 0.0) vbl_pt_split_emit(emission, beta, T, p, mu, comps);
-            W += T * vbl_pt_split_sigma_s(ctx, ts, p, sigma_t, comps) / mu;
+            W += T * vbl_pt_camera_split_sigma_s(ctx, ts, p, sigma_t, comps) / mu;
             walk->t[n] = t;
             walk->cum[n] = W;
             walk->n = ++n;
             t_last = t;
+            if (seek_depth && vbl_rng_uniform(rng) * mu < sigma_t) {
+                walk->t_first = t;
+                seek_depth = 0;
+            }
             const double f = 1.0 - sigma_t / mu;
             T *= f > 0.0 ? f : 0.0;
             if (!(T > 0.0)) {
                 walk->T_end = 0.0;
+                if (seek_depth) vbl_pt_split_depth_rest(ctx, ts, origin, direction, t, t1, rng, walk);
                 return;
             }
             if (T < VBL_PT_SPLIT_RR) { /* roulette: survivors carry T^ = threshold (unbiased) */
                 if (vbl_rng_uniform(rng) >= T / VBL_PT_SPLIT_RR) {
                     walk->T_end = 0.0;
+                    if (seek_depth) vbl_pt_split_depth_rest(ctx, ts, origin, direction, t, t1, rng, walk);
                     return;
                 }
                 T = VBL_PT_SPLIT_RR;

@@ -45,6 +45,8 @@
 /* The walk along one camera segment: candidate points t[0..n) with the running sums of their
  * weights cum[i] = w_0 + ... + w_i, and the estimate T_end of the segment's transmittance. */
 typedef struct vbl_pt_split_walk {
+    int want_depth; /* set by the caller: 1 to also find a delta-tracking collision (the Z AOV) */
+    double t_first; /* with want_depth: that collision's distance, or -1 if the flight left the segment */
     int n;
     double T_end;
     double t[VBL_PT_SPLIT_POINTS + 1], cum[VBL_PT_SPLIT_POINTS + 1];
@@ -64,5 +66,10 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
 /* The candidate picked by u in [0, 1): index i with cum[i - 1] <= u W < cum[i] (binary search);
  * -1 if the walk has no weight. */
 int vbl_pt_camera_split_pick(const vbl_pt_split_walk* walk, double u);
+
+/* Mean-RGB sigma_s of the media at p from their extinctions there (vbl_extinction_eval's sum and
+ * components); 0 where nothing scatters. The walk's weights are T^ times it over mu. */
+double vbl_pt_camera_split_sigma_s(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 p, double sigma_t,
+                                   const double* comps);
 
 #endif

@@ -261,4 +261,4 @@ void vbl_photon_beams_camera_sample(const vbl_render_context* ctx, const void* s
 }
 
 const vbl_estimator vbl_estimator_beams = {"beams", 1, vbl_photon_beams_pass_begin, vbl_photon_beams_camera_sample,
-                                           vbl_photon_beams_pass_end};
+                                           vbl_photon_beams_pass_end, NULL};

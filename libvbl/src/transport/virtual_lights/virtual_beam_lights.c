@@ -258,4 +258,5 @@ static vbl_result vbl_beam_light_pass_begin(const vbl_render_context* ctx, void*
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_beam, &settings, store);
 }
 
-const vbl_estimator vbl_estimator_vbl = {"vbl", 1, vbl_beam_light_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+const vbl_estimator vbl_estimator_vbl = {"vbl", 1, vbl_beam_light_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};

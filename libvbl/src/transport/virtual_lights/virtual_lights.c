@@ -221,6 +221,20 @@ static void vbl_vl_gather_lights(const vbl_vl_gather* g)
     }
 }
 
+/* The classes a camera sample takes from pt (vbl_pt_camera_classes): the single-scattering ones,
+ * less volume_direct where the bounce-0 photon beams give it. */
+static unsigned vbl_vl_pt_classes(const vbl_vl_store* s)
+{
+    unsigned from_pt = VBL_PT_SINGLE_SCATTER_CLASSES;
+    if (s && s->beams_direct) from_pt &= ~(1u << VBL_CLASS_VOLUME_DIRECT);
+    return from_pt;
+}
+
+int vbl_vl_camera_aovs(const vbl_render_context* ctx, const void* store)
+{
+    return vbl_pt_camera_classes_aovs(ctx, vbl_vl_pt_classes(store));
+}
+
 void vbl_vl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out)
 {
@@ -229,9 +243,7 @@ void vbl_vl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const vbl_vec3 o = sample->origin, d = sample->direction;
     const int beams_direct = s && s->beams_direct; /* then the bounce-0 beams are its volume_direct */
     /* emission, volume_emission and volume_direct: pt's estimator (pt_camera_classes.h) */
-    unsigned from_pt = VBL_PT_SINGLE_SCATTER_CLASSES;
-    if (beams_direct) from_pt &= ~(1u << VBL_CLASS_VOLUME_DIRECT);
-    vbl_pt_camera_classes(ctx, ts, sample, from_pt, rng, out);
+    vbl_pt_camera_classes(ctx, ts, sample, vbl_vl_pt_classes(s), rng, out);
     if (scene->has_emission && scene->surfaces && vbl_ctx_wants(ctx, VBL_CLASS_SURFACE_DIRECT)) {
         /* the emissive media's surface_direct (emission_estimate.h); its volume_emission is pt's */
         vbl_sample_value e;

@@ -40,6 +40,10 @@ extern const vbl_vl_kernel vbl_vl_kernel_beam;  /* virtual_beam_lights.c: settin
  * their settings from render options; tests and benchmarks build variants). */
 vbl_result vbl_vl_pass_begin(const vbl_render_context* ctx, const vbl_vl_kernel* kernel, const void* settings,
                              void** store);
+/* vbl_estimator.camera_aovs of the family: pt's camera walk inside vbl_vl_camera_sample gives the
+ * alpha and Z AOVs wherever it runs on every sample (pt_camera_classes.h). */
+int vbl_vl_camera_aovs(const vbl_render_context* ctx, const void* store);
+
 void vbl_vl_camera_sample(const vbl_render_context* ctx, const void* store, vbl_thread_state* ts,
                           const vbl_camera_sample* sample, vbl_rng* rng, vbl_sample_value* out);
 void vbl_vl_pass_end(const vbl_render_context* ctx, void* store);

@@ -83,4 +83,5 @@ static vbl_result vbl_vpl_pass_begin(const vbl_render_context* ctx, void** store
     return vbl_vl_pass_begin(ctx, &vbl_vl_kernel_point, &settings, store);
 }
 
-const vbl_estimator vbl_estimator_vpl = {"vpl", 1, vbl_vpl_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+const vbl_estimator vbl_estimator_vpl = {"vpl", 1, vbl_vpl_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};

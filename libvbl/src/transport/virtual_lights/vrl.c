@@ -264,4 +264,5 @@ int vbl_vrl_sample_factors(const vbl_render_context* ctx, const void* store, vbl
     return 1;
 }
 
-const vbl_estimator vbl_estimator_vrl = {"vrl", 1, vbl_vrl_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end};
+const vbl_estimator vbl_estimator_vrl = {"vrl", 1, vbl_vrl_pass_begin, vbl_vl_camera_sample, vbl_vl_pass_end,
+                                        vbl_vl_camera_aovs};
