@@ -271,7 +271,7 @@ typedef enum vbl_render_option_effect {
       "--pt-split-behind-march", 1, 0, 1, 0, NULL, HASH,                                                     \
       "pt.camera_split: weight the surface or background behind by its own transmittance estimate (pt's "   \
       "shadow-ray estimator at pt.surface_direct_rate x its density; false: the walk's ratio tracking)")     \
-    X(pt., pt_split_paths, split_paths, int, INT, "pt.split_paths", "--pt-split-paths", 1, 1, 16, 0, NULL,    \
+    X(pt., pt_split_paths, split_paths, int, INT, "pt.split_paths", "--pt-split-paths", 2, 1, 16, 0, NULL,    \
       HASH,                                                                                                  \
       "pt.camera_split: N forced scattering points per camera sample, stratified over the walk's weights, " \
       "each continued by its own path with 1/N of the weight (one camera walk serves N paths)")
