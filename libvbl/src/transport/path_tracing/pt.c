@@ -174,7 +174,6 @@ static int vbl_pt_pick_light(const vbl_scene* scene, vbl_vec3 x, const vbl_pt_di
 typedef struct vbl_pt_segment {
     vbl_vec3 origin, travel;
     double t_surface;
-    double collisions; /* the collision strategy's samples on it (pt_equiangular.h) */
 } vbl_pt_segment;
 
 /* Next-event estimation at the medium vertex at distance t on segment `seg`. */
@@ -200,13 +199,12 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     /* at the path's last vertex no phase direction is traced: that strategy's density is 0 */
     const double phase_pdf = last ? 0.0 : vbl_medium_phase_pdf(mp, cos_theta);
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
-        const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t, seg->collisions};
+        const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
         w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, phase_pdf, VBL_PT_EQ_NEE);
     } else if (!ls.is_delta)
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf, phase_pdf);
     else /* against the segment's equiangular sample (pt_equiangular.h) */
-        w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t,
-                                         seg->collisions);
+        w = vbl_pt_equiangular_ff_weight(ctx, light, seg->origin, travel, seg->t_surface, t, sigma_t);
     /* beta * (kernel / sigma_t) * L_i * T * w / (select_pdf * pdf) */
     double s = T * w / (select_pdf * ls.pdf * sigma_t);
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
@@ -325,7 +323,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     double rr_scale = 1.0;
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
-    vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0, 1.0}; /* set before use */
+    vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
     int has_eq_vertex = 0;
     vbl_pt_dims dims = {ctx->options.pt.sampler == VBL_PT_SAMPLER_SOBOL, ctx->options.seed, sample->pixel_index,
                         sample->sample_index};
@@ -384,8 +382,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         const double* ff = dims.sobol ? u_ff : NULL;
         if (ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
         const vbl_vec3 segment_beta = beta; /* the throughput into this segment (the split rescales beta) */
-        /* the camera split draws split_paths collisions on the camera segment (the copies' too) */
-        const double collisions = camera_split && path.events == 0 ? split_paths : 1.0;
+        /* (pt.split_paths: the MIS weights against the equiangular sample keep one collision's
+         * density, not N times it: N x gave the collision strategy more weight near a point light,
+         * where its samples spike, and volume_direct 1.03-1.3x worse in race_room, 4 seeds) */
         int segment_estimators = 1; /* the segment's visible lights, direct strata, equiangular NEE */
         int split_end = 0;          /* the split has no part left to trace (after the segment's estimators) */
         if (resume_surface) { /* pt_camera_split.h: the surface part, weighted by T_end already */
@@ -496,7 +495,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
-            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, collisions, segment_beta, u_pick, u_t,
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t,
                                    !next_last, rng,
                                    &out->L[vbl_pt_class(&next)]);
         }
@@ -512,7 +511,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         double pdf = 0.0;
         if (collided) {
             vbl_vec3 x = vbl_v3_madd(origin, direction, t);
-            vbl_pt_segment seg = {origin, direction, t_surface, collisions};
+            vbl_pt_segment seg = {origin, direction, t_surface};
             vbl_medium_point mp; /* what scatters at x (media/medium.h) */
             vbl_medium_point_from_components(scene, components, &mp);
             vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
@@ -529,7 +528,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
             beta = vbl_v3_scale(vbl_v3_mul(beta, kernel), 1.0 / (pdf * sigma_t));
             if (eq_quads) {
-                eq_vertex = (vbl_pt_eq_vertex){origin, direction, t_surface, t, sigma_t, collisions};
+                eq_vertex = (vbl_pt_eq_vertex){origin, direction, t_surface, t, sigma_t};
                 has_eq_vertex = 1;
             }
             origin = vertex = x;

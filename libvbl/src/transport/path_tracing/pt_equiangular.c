@@ -66,15 +66,14 @@ static int vbl_pt_eq_bounds(const vbl_render_context* ctx, vbl_vec3 origin, vbl_
 }
 
 double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_light* light, vbl_vec3 origin,
-                                    vbl_vec3 direction, double t_surface, double t, double sigma_t,
-                                    double collisions)
+                                    vbl_vec3 direction, double t_surface, double t, double sigma_t)
 {
     if (light->type == VBL_LIGHT_QUAD || !vbl_pt_eq_light(ctx, light) || !vbl_pt_equiangular_active(ctx)) return 1.0;
     vbl_segment seg;
     if (!vbl_pt_eq_bounds(ctx, origin, direction, t_surface, &seg)) return 1.0;
     double q_ea = vbl_equiangular_pdf(origin, direction, seg.t0, seg.t1, light->position, t) / vbl_pt_eq_light_count(ctx);
     if (!(q_ea > 0.0)) return 1.0;
-    double q_ff = collisions * vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / ctx->scene->light_count;
+    double q_ff = vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / ctx->scene->light_count;
     return vbl_pt_eq_weight(ctx->options.mis, q_ff, q_ea);
 }
 
@@ -86,10 +85,10 @@ double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_lig
  *   eq: y by the same area sampling (light_pdf), the pick among the N_eq lights, and t
  *       equiangular towards y. */
 static void vbl_pt_eq_quad_densities(const vbl_render_context* ctx, vbl_segment seg, double t, double sigma_t,
-                                     double collisions, vbl_vec3 y, double light_pdf, double phase_pdf, double* nee,
-                                     double* phase, double* eq)
+                                     vbl_vec3 y, double light_pdf, double phase_pdf, double* nee, double* phase,
+                                     double* eq)
 {
-    double ff = collisions * vbl_pt_eq_ff_density(ctx, seg, t, sigma_t);
+    double ff = vbl_pt_eq_ff_density(ctx, seg, t, sigma_t);
     *nee = ff * light_pdf / ctx->scene->light_count;
     *phase = ff * phase_pdf;
     *eq = vbl_equiangular_pdf(seg.origin, seg.direction, seg.t0, seg.t1, y, t) / vbl_pt_eq_light_count(ctx) * light_pdf;
@@ -109,16 +108,16 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
         phase = phase_pdf;
         eq = 0.0;
     } else {
-        vbl_pt_eq_quad_densities(ctx, seg, v->t, v->sigma_t, v->collisions, vbl_v3_madd(x, wi, distance), light_pdf,
-                                 phase_pdf, &nee, &phase, &eq);
+        vbl_pt_eq_quad_densities(ctx, seg, v->t, v->sigma_t, vbl_v3_madd(x, wi, distance), light_pdf, phase_pdf,
+                                 &nee, &phase, &eq);
     }
     if (strategy == VBL_PT_EQ_NEE) return vbl_pt_eq_weight3(h, nee, phase, eq);
     return vbl_pt_eq_weight3(h, phase, nee, eq);
 }
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                            vbl_vec3 direction, double t_surface, double collisions, vbl_vec3 beta, double u_pick,
-                            double u_t, int phase_traced, vbl_rng* rng, vbl_vec3* L)
+                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
+                            int phase_traced, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
@@ -163,15 +162,14 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     double q, w;
     if (quad) {
         double nee, phase, eq;
-        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, collisions, target, ls.pdf,
+        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf,
                                  phase_traced ? vbl_medium_phase_pdf(&mp, cos_theta) : 0.0, &nee,
                                  &phase, &eq);
         q = eq;
         w = vbl_pt_eq_weight3(ctx->options.mis, eq, nee, phase);
     } else {
         q = pdf_t / n_eq;
-        w = vbl_pt_eq_weight(ctx->options.mis, q,
-                             collisions * vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / scene->light_count);
+        w = vbl_pt_eq_weight(ctx->options.mis, q, vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / scene->light_count);
     }
     double s = T_camera * T_light * w / q;
     if (!isfinite(s)) return;

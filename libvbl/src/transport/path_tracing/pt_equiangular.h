@@ -24,12 +24,7 @@
  * are weighted together (Veach 1997, eq. 9.13 / 9.14 over three strategies), each density per unit
  * t and solid angle at x: nee = q_ff(t) / N * p_l, phase = q_ff(t) * p_phase(wi), eq = p_ea(t | y)
  * / N_eq * p_l, with p_l the quad's area pdf in solid angle and q_ff(t) = sigma_t exp(-tau_c).
- * The medium is read through the medium interface (media/medium.h).
- *
- * `collisions` is how many samples the collision strategy draws on the segment: 1, or on the
- * camera segment pt.split_paths (pt_camera_split.h: N stratified points of one walk, each with
- * 1/N of the weight). Its densities are multiplied by it, the multi-sample MIS of Veach 1997,
- * eq. 9.13 with n_i p_i (the equiangular sample stays one); the weights still sum to 1. */
+ * The medium is read through the medium interface (media/medium.h). */
 #ifndef VBL_TRANSPORT_PT_EQUIANGULAR_H
 #define VBL_TRANSPORT_PT_EQUIANGULAR_H
 
@@ -46,7 +41,6 @@ int vbl_pt_equiangular_quads_active(const vbl_render_context* ctx);
 typedef struct vbl_pt_eq_vertex {
     vbl_vec3 origin, direction;
     double t_surface, t, sigma_t;
-    double collisions; /* the collision strategy's samples on the segment (see below) */
 } vbl_pt_eq_vertex;
 
 enum { VBL_PT_EQ_NEE = 0, VBL_PT_EQ_PHASE = 1 };
@@ -64,14 +58,13 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
  * transmittance estimates draw from rng. phase_traced = 0 where the sampled vertex is the path's
  * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                            vbl_vec3 direction, double t_surface, double collisions, vbl_vec3 beta, double u_pick,
-                            double u_t, int phase_traced, vbl_rng* rng, vbl_vec3* L);
+                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
+                            int phase_traced, vbl_rng* rng, vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light
  * and equiangular NEE is active (quads: vbl_pt_equiangular_quad_weight). */
 double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_light* light, vbl_vec3 origin,
-                                    vbl_vec3 direction, double t_surface, double t, double sigma_t,
-                                    double collisions);
+                                    vbl_vec3 direction, double t_surface, double t, double sigma_t);
 
 #endif
