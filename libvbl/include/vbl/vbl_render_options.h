@@ -273,8 +273,9 @@ typedef enum vbl_render_option_effect {
       "shadow-ray estimator at pt.surface_direct_rate x its density; false: the walk's ratio tracking)")     \
     X(pt., pt_split_paths, split_paths, int, INT, "pt.split_paths", "--pt-split-paths", 2, 1, 16, 0, NULL,    \
       HASH,                                                                                                  \
-      "pt.camera_split: N forced scattering points per camera sample, stratified over the walk's weights, " \
-      "each continued by its own path with 1/N of the weight (one camera walk serves N paths)")
+      "pt.camera_split: up to N forced scattering points per camera sample, stratified over the walk's "  \
+      "weights, each continued by its own path (one camera walk serves them); the extra N - 1 in "          \
+      "proportion to the medium's share W / (W + T behind) of what the camera sample sees")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

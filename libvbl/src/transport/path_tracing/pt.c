@@ -408,11 +408,23 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
                                      scene->has_emission ? &e : NULL, rng, &walk);
             const double u_pick = ff ? u_ff[1] : vbl_rng_uniform(rng);
-            /* pt.split_paths = N: the points of N strata of the walk's weights, (j + u) / N, each
-             * continued with W / N (unbiased: each stratum's pick has density w_i / W over its
-             * stratum's share, so the N picks' mean estimates the sum; Novak et al. 2018, sec. 5.2,
-             * with stratified resampling); copy j > 0 waits on the stack with a stream of its own */
-            const int k = vbl_pt_camera_split_pick(&walk, u_pick / split_paths);
+            /* pt.split_paths: n paths from the points of n strata of the walk's weights, (j + u) / n,
+             * each continued with W / n (unbiased: point i is picked n w_i / W times on average, so
+             * the n paths' mean estimates the sum; Novak et al. 2018, sec. 5.2, with stratified
+             * resampling); copy j > 0 waits on the stack with a stream of its own. n is drawn
+             * given the walk, 1 + (N - 1) x the medium part's share W / (W + T^ behind) rounded
+             * at random (a surface or an environment behind; else the share is 1): the extra paths
+             * go where the medium is what the camera sample sees, and the surface part behind
+             * (traced once) keeps its CPU share in thin smoke. Any n >= 1 keeps the mean. */
+            int n_paths = split_paths;
+            if (split_paths > 1) {
+                const double W = walk.n > 0 ? walk.cum[walk.n - 1] : 0.0;
+                const double behind = on_surface || split_env ? walk.T_end : 0.0; /* the walk's, in [0, 1] */
+                const double share = W > 0.0 && isfinite(W) ? W / (W + behind) : 0.0;
+                n_paths = 1 + (int)floor((split_paths - 1) * share + vbl_rng_uniform(rng));
+                if (n_paths > split_paths) n_paths = split_paths;
+            }
+            const int k = vbl_pt_camera_split_pick(&walk, u_pick / n_paths);
             /* the AOVs (vbl_pt_camera_aovs): alpha 1 - the walk's T^ (in [0, 1], unlike the
              * march's estimate below), Z the walk's delta-tracking collision, else the surface */
             out->aovs.alpha = on_surface ? 1.0 : 1.0 - walk.T_end;
@@ -424,17 +436,17 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
             segment_estimators = 2;
             collided = 0;
-            if (k >= 0 && split_paths > 1) { /* the other strata's points, traced after this path */
+            if (k >= 0 && n_paths > 1) { /* the other strata's points, traced after this path */
                 uint64_t key = (uint64_t)vbl_rng_next_u32(rng) << 32;
                 key |= vbl_rng_next_u32(rng);
-                const vbl_vec3 copy_beta = vbl_v3_scale(beta, walk.cum[walk.n - 1] / split_paths);
-                for (int j = 1; j < split_paths; ++j) { /* N <= 16: the stack (empty here) holds them */
-                    const int kj = vbl_pt_camera_split_pick(&walk, (j + u_pick) / split_paths);
+                const vbl_vec3 copy_beta = vbl_v3_scale(beta, walk.cum[walk.n - 1] / n_paths);
+                for (int j = 1; j < n_paths; ++j) { /* n <= 16: the stack (empty here) holds them */
+                    const int kj = vbl_pt_camera_split_pick(&walk, (j + u_pick) / n_paths);
                     if (kj < 0) continue;
                     branches[branch_count++] = (vbl_pt_branch){
                         .origin = origin, .direction = direction, .vertex = vertex, .beta = copy_beta,
                         .prev_pdf = prev_pdf, .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex,
-                        .sobol = 0, .resume_t = walk.t[kj], .rr_scale = split_paths,
+                        .sobol = 0, .resume_t = walk.t[kj], .rr_scale = n_paths,
                         .rng = vbl_rng_make(key, (uint64_t)j, VBL_RNG_DOMAIN_GUIDE)};
                 }
             }
@@ -446,7 +458,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 vbl_medium_point_from_components(scene, components, &mp);
                 vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp);
                 const double ss = (mp.sigma_s.x + mp.sigma_s.y + mp.sigma_s.z) / 3.0;
-                const double scale = walk.cum[walk.n - 1] / split_paths * sigma_t / ss;
+                const double scale = walk.cum[walk.n - 1] / n_paths * sigma_t / ss;
                 if (sigma_t > 0.0 && ss > 0.0 && isfinite(scale)) {
                     collided = 1;
                     if (on_surface && walk.T_end != 0.0) { /* the surface part waits on the stack */
@@ -460,7 +472,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                             .rng = vbl_rng_make(key, 0u, VBL_RNG_DOMAIN_GUIDE)};
                     }
                     beta = vbl_v3_scale(beta, scale);
-                    rr_scale = split_paths;
+                    rr_scale = n_paths;
                 }
             }
             if (!collided) {
