@@ -265,7 +265,7 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_camera_split, camera_split, int, BOOL, "pt.camera_split", "--pt-camera-split", 1, 0, 1, 0,     \
       NULL, HASH,                                                                                            \
       "pt: the camera segment's free flight split into a forced scattering point (resampled from a ratio-"   \
-      "tracking walk at 4x the majorant) and the surface/background behind, weighted by the walk's "        \
+      "tracking walk at 8x the majorant) and the surface/background behind, weighted by the walk's "        \
       "transmittance; both traced (false: one delta-tracking free flight)")                                 \
     X(pt., pt_split_behind_march, split_behind_march, int, BOOL, "pt.split_behind_march",                     \
       "--pt-split-behind-march", 1, 0, 1, 0, NULL, HASH,                                                     \

@@ -65,7 +65,7 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
     vbl_majorant_segment seg;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global);
     while (vbl_extinction_iter_next(&iter, &seg)) {
-        /* every factor 1 - sigma_t / mu >= 3/4 (pt_camera_split.h) */
+        /* every factor 1 - sigma_t / mu >= 7/8 (pt_camera_split.h) */
         const double mu = VBL_PT_WALK_MAJORANT_SCALE * seg.majorant;
         if (!(mu > 0.0)) continue;
         double t = seg.t0;

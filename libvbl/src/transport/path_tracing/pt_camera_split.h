@@ -37,10 +37,13 @@
 #define VBL_PT_SPLIT_POINTS 256
 /* The walk's rate over the majorant. At the majorant itself a factor 1 - sigma_t / mu is near 0
  * wherever the majorant is tight, so T^ and the weights jump like delta tracking's 0/1 and are
- * most of the forced point's variance; at 4x every factor is >= 3/4. Measured on the sun-lit
+ * most of the forced point's variance; at 8x every factor is >= 7/8. Measured on the sun-lit
  * cloud (bench/pt_ab, docs/readme/performance.md): volume_direct rMAE at equal CPU against delta
- * tracking 0.91x at 1x, 0.73x at 2x, 0.63x at 4x, 0.58x at 8x (the walk's cost grows with it). */
-#define VBL_PT_WALK_MAJORANT_SCALE 4.0
+ * tracking 0.91x at 1x, 0.73x at 2x, 0.63x at 4x, 0.58x at 8x with one path per walk (session
+ * 9, when 4x was chosen); with pt.split_paths' two paths the walk's cost is shared, and 8x gives
+ * volume_direct 0.79-0.83x of 4x at equal CPU on three race scenes, the other layers 1.01-1.06x
+ * (session 11, bench/results/pt_walk_rate_split_s11.txt). */
+#define VBL_PT_WALK_MAJORANT_SCALE 8.0
 
 /* The walk along one camera segment: candidate points t[0..n) with the running sums of their
  * weights cum[i] = w_0 + ... + w_i, and the estimate T_end of the segment's transmittance. */

@@ -4,7 +4,7 @@
  *   I_l = int_t0^t1 T(t0, t) K(t, w_l) L_l(t) T_l(t) dt     (K = sum sigma_s p, the kernel),
  * is estimated from K NEE points instead of the one delta-tracking collision's NEE:
  *  1. one ratio-tracking walk along the camera ray over the media interval, the camera split's
- *     (vbl_pt_camera_split_walk: tentative points p_i at VBL_PT_WALK_MAJORANT_SCALE = 4x the
+ *     (vbl_pt_camera_split_walk: tentative points p_i at VBL_PT_WALK_MAJORANT_SCALE = 8x the
  *     majorant rate; Novak et al. 2014,
  *     eq. 6) gives each point the weight w_i = T^_{i-1} sigma_s(p_i) / mu_i, T^_{i-1} the product
  *     of (1 - sigma_t / mu) before p_i. Summing w_i f(p_i) is the null-collision estimator of
