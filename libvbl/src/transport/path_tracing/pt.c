@@ -382,16 +382,13 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         const double* ff = dims.sobol ? u_ff : NULL;
         if (ff) vbl_pt_u2(&dims, VBL_PT_PAIR_FREE_FLIGHT, path.events, rng, &u_ff[0], &u_ff[1]);
         const vbl_vec3 segment_beta = beta; /* the throughput into this segment (the split rescales beta) */
-        /* (pt.split_paths: the MIS weights against the equiangular sample keep one collision's
-         * density, not N times it: N x gave the collision strategy more weight near a point light,
-         * where its samples spike, and volume_direct 1.03-1.3x worse in race_room, 4 seeds) */
         int segment_estimators = 1; /* the segment's visible lights, direct strata, equiangular NEE */
         int split_end = 0;          /* the split has no part left to trace (after the segment's estimators) */
         if (resume_surface) { /* pt_camera_split.h: the surface part, weighted by T_end already */
             resume_surface = 0;
             collided = 0;
             segment_estimators = 0;
-        } else if (resume_t >= 0.0) { /* a pt.split_paths copy: beta holds W / N; times sigma_t / sigma_s here */
+        } else if (resume_t >= 0.0) { /* a pt.split_paths copy: beta holds W / n; times sigma_t / sigma_s here */
             t = resume_t;
             resume_t = -1.0;
             const vbl_vec3 x = vbl_v3_madd(origin, direction, t);

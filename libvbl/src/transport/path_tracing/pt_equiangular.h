@@ -24,7 +24,12 @@
  * are weighted together (Veach 1997, eq. 9.13 / 9.14 over three strategies), each density per unit
  * t and solid angle at x: nee = q_ff(t) / N * p_l, phase = q_ff(t) * p_phase(wi), eq = p_ea(t | y)
  * / N_eq * p_l, with p_l the quad's area pdf in solid angle and q_ff(t) = sigma_t exp(-tau_c).
- * The medium is read through the medium interface (media/medium.h). */
+ * The medium is read through the medium interface (media/medium.h).
+ *
+ * On the camera segment pt may draw several collisions from one walk (pt.split_paths, n of them,
+ * each with 1/n of the weight). The weights still use one collision's density, not n times it
+ * (Veach's n_i p_i): n x moved the weight onto the collision strategy, whose samples spike near a
+ * point light, and volume_direct in race_room was worse on each of 4 seeds (session 11). */
 #ifndef VBL_TRANSPORT_PT_EQUIANGULAR_H
 #define VBL_TRANSPORT_PT_EQUIANGULAR_H
 
