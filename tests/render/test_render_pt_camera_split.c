@@ -50,7 +50,8 @@ static void release_case(split_case* c)
 typedef struct split_config {
     int split, passes, spp;
     int walk_behind; /* 1: pt.split_behind_march false (the walk's T_end weights the part behind) */
-    int paths;       /* pt.split_paths (0: the default, 1) */
+    int paths;       /* pt.split_paths (0: the default) */
+    int threads;     /* 0: tt_options' */
 } split_config;
 
 static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_t seed)
@@ -61,34 +62,32 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     o.pt.camera_split = cfg->split;
     o.pt.split_behind_march = !cfg->walk_behind;
     if (cfg->paths > 0) o.pt.split_paths = cfg->paths;
+    if (cfg->threads > 0) o.threads = cfg->threads;
     vbl_film* film = NULL;
     if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;
 }
 
-static vbl_film* render_threads(const vbl_scene* scene, int split, int walk_behind, int threads)
+/* `on` is bit-identical at 1 and 2 threads and differs from `off` (seed 5): the option is active. */
+static void check_threads_and_active(const vbl_scene* scene, split_config on, split_config off)
 {
-    vbl_render_options o = tt_options(2, 2, 0, 5);
-    o.method = VBL_RENDER_PT;
-    o.threads = threads;
-    o.pt.camera_split = split;
-    o.pt.split_behind_march = !walk_behind;
-    vbl_film* film = NULL;
-    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
-    return film;
+    on.threads = 1;
+    vbl_film* a = render_cfg(scene, &on, 5);
+    on.threads = off.threads = 2;
+    vbl_film* b = render_cfg(scene, &on, 5);
+    vbl_film* d = render_cfg(scene, &off, 5);
+    check_identical_and_differs(a, b, d);
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(d);
 }
 
 static void test_deterministic_and_active(void** state)
 {
     (void)state;
     split_case c = surfaces_case(2.0);
-    vbl_film* a = render_threads(c.scene, 1, 0, 1);
-    vbl_film* b = render_threads(c.scene, 1, 0, 2);
-    vbl_film* d = render_threads(c.scene, 0, 0, 2);
-    check_identical_and_differs(a, b, d);
-    vbl_film_release(a);
-    vbl_film_release(b);
-    vbl_film_release(d);
+    check_threads_and_active(c.scene, (split_config){.split = 1, .passes = 2, .spp = 2},
+                             (split_config){.split = 0, .passes = 2, .spp = 2});
     release_case(&c);
 }
 
@@ -151,7 +150,7 @@ static double check_configs(const vbl_scene* scene, const split_config* on, cons
 /* The split (defaults) against the flight. */
 static double check_layers(const vbl_scene* scene, int passes, int spp, int se_layer)
 {
-    const split_config on = {1, passes, spp, 0, 0}, off = {0, passes, spp, 0, 0};
+    const split_config on = {1, passes, spp, 0, 0, 0}, off = {0, passes, spp, 0, 0, 0};
     return check_configs(scene, &on, &off, se_layer, K);
 }
 
@@ -201,14 +200,9 @@ static void test_behind_march(void** state)
 {
     (void)state;
     split_case c = surfaces_case(0.5);
-    const split_config march = {1, 2, 4, 0, 0}, walk = {1, 2, 4, 1, 0};
-    vbl_film* a = render_threads(c.scene, 1, 0, 1);
-    vbl_film* b = render_threads(c.scene, 1, 0, 2);
-    vbl_film* d = render_threads(c.scene, 1, 1, 2);
-    check_identical_and_differs(a, b, d);
-    vbl_film_release(a);
-    vbl_film_release(b);
-    vbl_film_release(d);
+    const split_config march = {1, 2, 4, 0, 0, 0}, walk = {1, 2, 4, 1, 0, 0};
+    check_threads_and_active(c.scene, (split_config){.split = 1, .passes = 2, .spp = 2},
+                             (split_config){.split = 1, .passes = 2, .spp = 2, .walk_behind = 1});
     check_configs(c.scene, &march, &walk, VBL_CLASS_SURFACE_DIRECT, K);
     release_case(&c);
 }
@@ -224,19 +218,8 @@ static void test_split_paths(void** state)
     vbl_volume* volume;
     vbl_scene* scene = sphere_scene(30.0, 1.2, 0.3, &volume);
     tt_add_distant(scene, vbl_v3(0.2, 1.0, -0.3), 2.0);
-    const split_config three = {1, 1, 4, 0, 3}, one = {1, 1, 4, 0, 1};
-    vbl_film* a = render_cfg(scene, &three, 5);
-    vbl_render_options o = tt_options(1, 4, 0, 5);
-    o.method = VBL_RENDER_PT;
-    o.pt.split_paths = 3;
-    o.threads = 1;
-    vbl_film* b = NULL;
-    assert_int_equal(vbl_render(scene, &o, &b), VBL_SUCCESS);
-    vbl_film* d = render_cfg(scene, &one, 5);
-    check_identical_and_differs(a, b, d);
-    vbl_film_release(a);
-    vbl_film_release(b);
-    vbl_film_release(d);
+    const split_config three = {1, 1, 4, 0, 3, 0}, one = {1, 1, 4, 0, 1, 0};
+    check_threads_and_active(scene, three, one);
     const double ratio = check_configs(scene, &three, &one, VBL_CLASS_VOLUME_FROM_VOLUME, 2 * K);
     printf("split_paths 3: volume_from_volume se ratio %.2f\n", ratio);
     assert_true(ratio < 0.8);
@@ -283,7 +266,7 @@ static void test_aovs_from_walk(void** state)
     for (int sc = 0; sc < 2; ++sc) {
         double m[2][2] = {{0}}, m2[2][2] = {{0}};
         for (int split = 0; split < 2; ++split) {
-            const split_config cfg = {split, 1, 8, 0, 0};
+            const split_config cfg = {split, 1, 8, 0, 0, 0};
             for (int k = 0; k < K; ++k) {
                 vbl_film* f = render_cfg(scenes[sc], &cfg, 100 + 7919u * (uint64_t)k);
                 double a, z;

@@ -400,10 +400,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             segment_estimators = 0;
         } else if (camera_split && path.events == 0) { /* pt_camera_split.h */
             vbl_pt_split_walk walk;
-            walk.want_depth = 1;
             vbl_emission_visit_state e = {scene, &ts->emission, beta, &out->L[VBL_CLASS_VOLUME_EMISSION]};
             vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
-                                     scene->has_emission ? &e : NULL, rng, &walk);
+                                     scene->has_emission ? &e : NULL, 1, rng, &walk);
             const double u_pick = ff ? u_ff[1] : vbl_rng_uniform(rng);
             /* pt.split_paths: n paths from the points of n strata of the walk's weights, (j + u) / n,
              * each continued with W / n (unbiased: point i is picked n w_i / W times on average, so
@@ -451,10 +450,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 t = walk.t[k];
                 vbl_vec3 x = vbl_v3_madd(origin, direction, t);
                 sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, x, components);
-                vbl_medium_point mp;
-                vbl_medium_point_from_components(scene, components, &mp);
-                vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp);
-                const double ss = (mp.sigma_s.x + mp.sigma_s.y + mp.sigma_s.z) / 3.0;
+                const double ss = vbl_pt_camera_split_sigma_s(ctx, ts, x, sigma_t, components);
                 const double scale = walk.cum[walk.n - 1] / n_paths * sigma_t / ss;
                 if (sigma_t > 0.0 && ss > 0.0 && isfinite(scale)) {
                     collided = 1;

@@ -43,7 +43,8 @@ static void vbl_pt_split_depth_rest(const vbl_render_context* ctx, vbl_thread_st
 
 void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                               vbl_vec3 direction, double t_surface, double u_first, vbl_vec3 beta,
-                              vbl_emission_visit_state* emission, vbl_rng* rng, vbl_pt_split_walk* walk)
+                              vbl_emission_visit_state* emission, int want_depth, vbl_rng* rng,
+                              vbl_pt_split_walk* walk)
 {
     const vbl_extinction* ext = ctx->extinction;
     walk->n = 0;
@@ -56,7 +57,7 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
     /* the Z AOV: delta tracking on the walk's own tentative points (each a real collision with
      * probability sigma_t / mu: the points are Poisson at rate mu >= sigma_t); where the walk
      * stops before one is found, a free flight from its last point (memoryless) ends the search */
-    int seek_depth = walk->want_depth;
+    int seek_depth = want_depth;
     const int use_global = ctx->tracking.use_global_majorant;
     double T = 1.0, W = 0.0, t_last = t0;
     double tau = u_first >= 0.0 && u_first < 1.0 ? -log1p(-u_first) : -1.0; /* carried depth (vbl_exp_carry_step) */

@@ -48,8 +48,7 @@
 /* The walk along one camera segment: candidate points t[0..n) with the running sums of their
  * weights cum[i] = w_0 + ... + w_i, and the estimate T_end of the segment's transmittance. */
 typedef struct vbl_pt_split_walk {
-    int want_depth; /* set by the caller: 1 to also find a delta-tracking collision (the Z AOV) */
-    double t_first; /* with want_depth: that collision's distance, or -1 if the flight left the segment */
+    double t_first; /* a delta-tracking collision's distance (the Z AOV; want_depth), or -1 */
     int n;
     double T_end;
     double t[VBL_PT_SPLIT_POINTS + 1], cum[VBL_PT_SPLIT_POINTS + 1];
@@ -61,10 +60,13 @@ int vbl_pt_camera_split_active(const vbl_render_context* ctx);
 /* The walk along origin + t direction (unit), t in [0, t_surface] (INFINITY: to the media's far
  * side). u_first in [0, 1) (or < 0: from rng) is the first tentative point's exponential depth.
  * With `emission` (emissive scenes) each tentative point adds beta T^ sigma_a Le / mu to
- * emission->L. No media on the segment: n = 0, T_end = 1. */
+ * emission->L. With want_depth, walk->t_first is a delta-tracking collision along the segment
+ * (drawn on the walk's own points) or -1; without it -1. No media on the segment: n = 0,
+ * T_end = 1. */
 void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                               vbl_vec3 direction, double t_surface, double u_first, vbl_vec3 beta,
-                              vbl_emission_visit_state* emission, vbl_rng* rng, vbl_pt_split_walk* walk);
+                              vbl_emission_visit_state* emission, int want_depth, vbl_rng* rng,
+                              vbl_pt_split_walk* walk);
 
 /* The candidate picked by u in [0, 1): index i with cum[i - 1] <= u W < cum[i] (binary search);
  * -1 if the walk has no weight. */

@@ -59,8 +59,7 @@ void vbl_pt_direct_strata(const vbl_render_context* ctx, vbl_thread_state* ts, v
     int count = ctx->options.pt.direct_strata;
     if (count > VBL_PT_DIRECT_STRATA_MAX) count = VBL_PT_DIRECT_STRATA_MAX;
     vbl_pt_split_walk walk; /* the camera split's walk: its points, weights and roulette (pt_camera_split.h) */
-    walk.want_depth = 0;
-    vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, -1.0, beta, NULL, rng, &walk);
+    vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, -1.0, beta, NULL, 0, rng, &walk);
     const int n = walk.n;
     const double *t = walk.t, *cum = walk.cum;
     if (n == 0) return;
