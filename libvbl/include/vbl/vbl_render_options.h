@@ -253,6 +253,10 @@ typedef enum vbl_render_option_effect {
       HASH, "pt.guided_rr: radiance cache cells per axis over the media's bounds")                          \
     X(pt., pt_guide_paths, guide_paths, int, INT, "pt.guide_paths", "--pt-guide-paths", 8, 1, 4096, 0, NULL, \
       HASH, "pt.guided_rr: pre-pass paths per radiance cache cell (and per 8x8 pixel block, twice as many)") \
+    X(pt., pt_shadow_roulette, shadow_roulette, int, BOOL, "pt.shadow_roulette", "--pt-shadow-roulette", 1, 0, \
+      1, 0, NULL, HASH,                                                                                      \
+      "pt: Russian roulette on the NEE shadow rays of medium vertices after the first scattering event, "   \
+      "survival 4 pi x throughput x albedo x phase value (at least 0.05; unbiased)")                         \
     X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
       NULL, HASH,                                                                                            \
       "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \

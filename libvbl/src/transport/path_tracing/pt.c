@@ -176,11 +176,30 @@ typedef struct vbl_pt_segment {
     double t_surface;
 } vbl_pt_segment;
 
-/* Next-event estimation at the medium vertex at distance t on segment `seg`. */
+/* pt.shadow_roulette: the survival probability of a shadow ray at a vertex of throughput beta
+ * whose phase function takes the value p towards the light, on a path whose throughput at its
+ * camera-visible vertex was beta_1 (max component ref): q = clamp(4 pi p max(beta) / ref,
+ * VBL_PT_SHADOW_RR_MIN, 1), the ray's unoccluded contribution relative to an isotropic
+ * camera-visible vertex of the same path, whose light the pixel is mostly made of (albedo left
+ * out: that vertex's contribution carries it too). A Russian roulette decided before the shadow
+ * ray's random numbers, survivors weighted 1/q: unbiased for any q > 0. A forward-scattering
+ * phase function (g = 0.8: 4 pi p from 0.06 to 45) leaves most deep vertices' shadow rays with
+ * small weights, and those rays were 56 % of a dense cloud's CPU (docs/readme/performance.md,
+ * session 12). */
+#define VBL_PT_SHADOW_RR_MIN 0.05
+static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
+{
+    const double q = 4.0 * VBL_PI * phase * vbl_v3_max_component(beta) / ref;
+    return q >= 1.0 ? 1.0 : (q > VBL_PT_SHADOW_RR_MIN ? q : VBL_PT_SHADOW_RR_MIN); /* NaN: the minimum */
+}
+
+/* Next-event estimation at the medium vertex at distance t on segment `seg`; rr_ref > 0: the
+ * shadow ray's roulette (pt.shadow_roulette) against the path's first-vertex throughput rr_ref,
+ * 0: always traced. */
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
-                                     const vbl_pt_dims* dims, int last, vbl_vec3 beta, vbl_rng* rng,
-                                     vbl_sample_value* out)
+                                     const vbl_pt_dims* dims, int last, double rr_ref, vbl_vec3 beta,
+                                     vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -193,11 +212,17 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double cos_theta = vbl_v3_dot(travel, ls.wi);
     vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
-    double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
+    const double phase = vbl_medium_phase_pdf(mp, cos_theta);
+    double q = 1.0;
+    if (rr_ref > 0.0) {
+        q = vbl_pt_shadow_survival(beta, phase, rr_ref);
+        if (q < 1.0 && vbl_rng_uniform(rng) >= q) return;
+    }
+    double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) / q;
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
     /* at the path's last vertex no phase direction is traced: that strategy's density is 0 */
-    const double phase_pdf = last ? 0.0 : vbl_medium_phase_pdf(mp, cos_theta);
+    const double phase_pdf = last ? 0.0 : phase;
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
         const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
         w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, phase_pdf, VBL_PT_EQ_NEE);
@@ -257,6 +282,7 @@ typedef struct vbl_pt_branch {
     int resume_surface; /* 1: the camera split's surface part (the segment's media already walked) */
     double resume_t;    /* >= 0: pt.split_paths' copy, scattering at this distance on the camera ray */
     double rr_scale;    /* the roulette's throughput scale (the split's path count: see rr_scale) */
+    double beta_first;  /* max(beta) at the path's camera-visible vertex (pt.shadow_roulette) */
     vbl_rng rng;
 } vbl_pt_branch;
 
@@ -321,6 +347,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * carries 1/N of the camera sample's weight, and q = beta would end all but ~1 of them by the
      * third event, undoing the split */
     double rr_scale = 1.0;
+    const int shadow_roulette = ctx->options.pt.shadow_roulette;
+    double beta_first = 1.0; /* max(beta) at the camera-visible vertex (vbl_pt_shadow_survival) */
     /* the medium vertex the current ray left from, for quad lights' three-strategy MIS */
     const int eq_quads = vbl_pt_equiangular_quads_active(ctx);
     vbl_pt_eq_vertex eq_vertex = {sample->origin, sample->direction, 0.0, 0.0, 0.0}; /* set before use */
@@ -509,6 +537,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (collided && !(sigma_t > 0.0)) break;
 
         vbl_pt_vertex(&path, !collided);
+        if (path.events == 1) beta_first = vbl_v3_max_component(beta); /* pt.shadow_roulette's reference */
         if (max_bounces >= 0 && path.events > max_bounces) break;
         if (vbl_pt_path_skipped(ctx, &path)) break; /* render.hybrid */
         double u0, u1, u2, u_rr = -1.0; /* u_rr < 0: the roulette draws from the stream */
@@ -521,7 +550,11 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_medium_point_from_components(scene, components, &mp);
             vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
             int last = max_bounces >= 0 && path.events >= max_bounces;
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, beta, rng, out);
+            /* pt.shadow_roulette: after the first scattering event (the camera-visible vertex keeps
+             * every shadow ray: volume_direct) */
+            const double shadow_rr = shadow_roulette && path.events >= 2 ? beta_first : 0.0;
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, beta, rng,
+                                     out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
@@ -574,7 +607,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 branches[branch_count++] = (vbl_pt_branch){
                     .origin = origin, .direction = wi, .vertex = vertex, .beta = beta, .prev_pdf = pdf,
                     .path = path, .eq_vertex = eq_vertex, .has_eq_vertex = has_eq_vertex, .resume_t = -1.0,
-                    .rr_scale = rr_scale,
+                    .rr_scale = rr_scale, .beta_first = beta_first,
                     .rng = vbl_rng_make(key, (uint64_t)k, VBL_RNG_DOMAIN_GUIDE)}; /* sobol 0: own streams */
         }
         /* Russian roulette from the third scattering event on (unbiased: survivors / q) */
@@ -594,6 +627,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         resume_surface = b->resume_surface;
         resume_t = b->resume_t;
         rr_scale = b->rr_scale;
+        beta_first = b->beta_first;
         branch_rng = b->rng;
         rng = &branch_rng;
     }
