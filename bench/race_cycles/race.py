@@ -2,8 +2,13 @@
 
 Per scene (bench/scenes/race_*.json, 128x128):
 1. Cycles 3.4 CPU (../shared/tools/cycles-reference/render.sh, 2 threads) at --spp samples with
-   its light passes; its whole-process CPU time (user + system of blender and its children, from
-   getrusage) is the budget B. Scenes the kit cannot express (a spot light) get --budget.
+   its light passes, twice (seeds 0 and 1, back to back); the mean of the two renders'
+   whole-process CPU times (user + system of blender and its children, from getrusage) is the
+   budget B, and Cycles' error per layer is the mean of the two renders' rMAE. (One render's CPU
+   time moved by up to 30 % between runs, 12.1 s and 16.0 s for the same room render in one
+   run: a single timing decided a scene's ratio by up to 1.15x.) With --check-spp other than
+   --spp, the first render alone sets both. Scenes the kit cannot express (a spot light) get
+   --budget.
 2. Each libvbl method with its defaults (2 threads) given B: a one-pass calibration run gives the
    cost per pass, the passes are sized to B and the run repeated (at most twice) with corrected
    passes while its CPU time is off by more than 20% (a virtual-light pass's cost varies with its
@@ -12,9 +17,9 @@ Per scene (bench/scenes/race_*.json, 128x128):
 3. A converged reference: two independent pt halves of --ref-factor x B each (cached under
    --work by the scene's content, the vbl binary's size and mtime and the passes); its floor is
    reported.
-4. A second Cycles render (another seed) for the mean check: per Cycles pass, the mean of the
-   two Cycles renders against the pt reference, agreeing if within max(2%, 3 sigma).
-Cycles and libvbl runs are interleaved per scene so load changes affect both alike.
+4. The mean check: per Cycles pass, the mean of the two Cycles renders against the pt
+   reference, agreeing if within max(2%, 3 sigma).
+Cycles and libvbl runs alternate per scene so load changes affect both alike.
 """
 import argparse
 import csv
@@ -134,8 +139,9 @@ class Race:
         ref = {k: 0.5 * (ref_h[0][k] + ref_h[1][k]) for k in ref_h[0]}
         return ref, ref_h, passes
 
-    def score_row(self, scene, method, kind, layer, img, ref, floor, cpu, wall, budget, passes, ff_pt=None):
-        raw = score.rmae(img, ref)
+    def score_row(self, scene, method, kind, layer, img, ref, floor, cpu, wall, budget, passes, ff_pt=None,
+                  raw=None):
+        raw = score.rmae(img, ref) if raw is None else raw
         row = dict(scene=scene, method=method, layers=kind, layer=layer, rmae=raw,
                    rmae_at_budget=score.equal_time_rmae(raw, cpu, budget), energy=score.energy(img, ref),
                    fireflies=score.fireflies(img, ref), ref_floor=floor, cpu_s=cpu, wall_s=wall,
@@ -162,14 +168,20 @@ class Race:
             self.log(f"{name}: Cycles {a.spp} spp")
             cy_out = os.path.join(a.work, f"{name}_cycles.exr")
             cpu, wall = self.cycles_render(kit_json, cy_out, a.spp, 0)
+            self.log(f"{name}: Cycles {cpu:.1f} CPU s, {wall:.1f} s wall")
+            self.log(f"{name}: Cycles {a.check_spp} spp (seed 1) for the budget and the mean check")
+            cy2_out = os.path.join(a.work, f"{name}_cycles_check.exr")
+            c2 = self.cycles_render(kit_json, cy2_out, a.check_spp, 1)
+            self.log(f"{name}: Cycles check {c2[0]:.1f} CPU s")
+            if a.check_spp == a.spp:  # the budget: the mean of the two renders' CPU
+                cpu, wall = 0.5 * (cpu + c2[0]), 0.5 * (wall + c2[1])
             budget = cpu
             cy = (cy_out, cpu, wall)
             render_wall = json.load(open(cy_out + ".json"))["render_wall_seconds"]
             self.cycles_info[name] = dict(cpu_s=cpu, wall_s=wall, render_call_wall_s=render_wall)
-            self.log(f"{name}: Cycles {cpu:.1f} CPU s, {wall:.1f} s wall")
         else:
             budget = a.budget
-        for i, m in enumerate(methods):
+        for m in methods:
             self.log(f"{name}: {m} at {budget:.1f} CPU s")
             res = self.method_at_budget(scene, name, m, budget)
             if res is None:
@@ -177,11 +189,6 @@ class Race:
             else:
                 results[m] = res
                 self.log(f"{name}: {m} {res[3]} passes, {res[1]:.1f} CPU s, {res[2]:.1f} s wall")
-            if kit is not None and i == len(methods) // 2:  # interleave the second Cycles render
-                self.log(f"{name}: Cycles {a.check_spp} spp (seed 1) for the mean check")
-                cy2_out = os.path.join(a.work, f"{name}_cycles_check.exr")
-                c2 = self.cycles_render(kit_json, cy2_out, a.check_spp, 1)
-                self.log(f"{name}: Cycles check {c2[0]:.1f} CPU s")
         pt_cost = results["pt"][1] / results["pt"][3]
         ref, ref_h, ref_passes = self.reference(scene, name, pt_cost, budget)
         floors = {k: score.floor_rmae(ref_h[0][k], ref_h[1][k]) for k in ref}
@@ -202,7 +209,11 @@ class Race:
                 fl = score.floor_rmae(gh[0][k], gh[1][k])
                 pt = results["pt"]
                 self.score_row(name, "pt", "cycles", k, gpt[k], gref[k], fl, pt[1], pt[2], budget, pt[3])
-                self.score_row(name, "cycles", "cycles", k, cyl[k], gref[k], fl, cy[1], cy[2], budget, a.spp)
+                raw_cy = score.rmae(cyl[k], gref[k])
+                if a.check_spp == a.spp:  # Cycles' error: the mean of its two renders'
+                    raw_cy = 0.5 * (raw_cy + score.rmae(cyl2[k], gref[k]))
+                self.score_row(name, "cycles", "cycles", k, cyl[k], gref[k], fl, cy[1], cy[2], budget, a.spp,
+                               raw=raw_cy)
                 # mean check: both Cycles renders (weighted by spp) against the reference
                 w1, w2 = a.spp, a.check_spp
                 m1, m2, mr = float(cyl[k].mean()), float(cyl2[k].mean()), float(gref[k].mean())

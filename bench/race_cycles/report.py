@@ -112,8 +112,10 @@ def header(race, a):
     return [f"# Cycles race (bench/race_cycles/run.sh{' --quick' if a.quick else ''})", "",
             f"- {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, commit {commit}",
             f"- {platform.machine()}, {os.cpu_count()} cores; load average (1/5/15 min) at the start and after each scene: {loads}",
-            f"- Cycles 3.4 CPU {a.spp} spp, 2 threads (../shared/tools/cycles-reference/render.sh --passes), its whole-process "
-            f"CPU time (user + system, getrusage) is the budget; scenes without a Cycles race: {a.budget:.0f} CPU s",
+            f"- Cycles 3.4 CPU {a.spp} spp, 2 threads (../shared/tools/cycles-reference/render.sh --passes), two renders "
+            f"(seeds 0 and 1): the mean of their whole-process CPU times (user + system, getrusage) is the budget and the "
+            f"mean of their rMAE is Cycles' error (the first render alone where --check-spp differs from --spp); "
+            f"scenes without a Cycles race: {a.budget:.0f} CPU s",
             f"- libvbl: each method with its defaults, 2 threads, passes sized to the budget from a one-pass calibration run",
             f"- reference: pt, two halves of {a.ref_factor:g}x the budget each; rMAE = sum|img - ref| / sum|ref| over pixels and RGB",
             f"- wall time of the whole run: {race.elapsed:.0f} s", ""]
