@@ -17,6 +17,7 @@
 #include "render/hybrid.h"
 #include "transport/path_tracing/pt.h"
 #include "transport/path_tracing/pt_guide.h"
+#include "render/pixel_focus.h"
 #include "transport/common/photon_trace.h"
 
 #define VBL_TILE 16
@@ -61,6 +62,8 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
     const uint64_t pixel_key = sobol ? vbl_sobol_key(ctx->options.seed, pixel_index, 0u, 0u) : 0u;
     /* the estimator's own AOVs (pt's camera walk) instead of a transmittance and a flight here */
     const int est_aovs = est->camera_aovs && est->camera_aovs(ctx, store);
+    /* pixel_focus: this pixel holds a point light's image (pixel_focus.h) */
+    const vbl_pixel_focus* focus = ctx->pixel_foci ? vbl_pixel_foci_find(ctx->pixel_foci, px, py) : NULL;
     for (int s = 0; s < spp; ++s) {
         if ((s & 15) == 15 && vbl_render_stop_requested(ctx)) return; /* the driver drops the pass */
         vbl_camera_sample cs;
@@ -68,15 +71,16 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         cs.py = py;
         cs.pixel_index = pixel_index;
         cs.sample_index = (uint32_t)((uint64_t)ctx->pass * (uint64_t)spp + (uint64_t)s);
+        double u, v, weight = 1.0; /* weight: 1 / the position's density (pixel_focus) */
         if (sobol) {
-            double u, v;
             vbl_sobol_pair(pixel_key, cs.sample_index, &u, &v);
-            cs.sx = px + u;
-            cs.sy = py + v;
         } else {
-            cs.sx = px + vbl_rng_uniform(&rng);
-            cs.sy = py + vbl_rng_uniform(&rng);
+            u = vbl_rng_uniform(&rng);
+            v = vbl_rng_uniform(&rng);
         }
+        cs.sx = px + u;
+        cs.sy = py + v;
+        if (focus) weight = vbl_pixel_focus_sample(focus, vbl_rng_uniform(&rng), u, v, &cs.sx, &cs.sy);
         if (ctx->scene->motion && ctx->options.motion_blur) {
             /* motion blur: the path's time, stratified over the pixel's spp samples of the pass */
             const vbl_scene* sc = ctx->scene;
@@ -90,27 +94,30 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         /* AOVs: alpha = 1 on opaque surfaces, else 1 - T(camera ray); Z = the delta-tracked
          * first collision or the surface hit, whichever comes first */
         if (!est_aovs && (ctx->extinction->count > 0 || surface_hit)) {
-            acc->alpha += surface_hit ? 1.0 : 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction, INFINITY, &rng);
+            acc->alpha += weight * (surface_hit ? 1.0 : 1.0 - vbl_ctx_transmittance(ctx, ts, cs.origin, cs.direction,
+                                                                                    INFINITY, &rng));
             double t = 0.0;
             const vbl_segment ray = vbl_segment_make(cs.origin, cs.direction, 0.0, cs.t_max);
             vbl_medium_point mp;
             if (ctx->extinction->count > 0 && vbl_ctx_free_flight_medium(ctx, ts, &ray, &rng, &t, &mp)) {
-                acc->depth += t;
-                acc->depth_hits += 1.0;
+                acc->depth += weight * t;
+                acc->depth_hits += weight;
             } else if (surface_hit) {
-                acc->depth += cs.t_max;
-                acc->depth_hits += 1.0;
+                acc->depth += weight * cs.t_max;
+                acc->depth_hits += weight;
             }
         }
 
         vbl_sample_value value;
         memset(&value, 0, sizeof value);
-        est->camera_sample(ctx, store, ts, &cs, &rng, &value);
-        if (est_aovs) {
-            acc->alpha += value.aovs.alpha;
+        if (weight > 0.0) est->camera_sample(ctx, store, ts, &cs, &rng, &value);
+        if (weight != 1.0) /* pixel_focus: the sample's weight (0 on the image itself, a null set) */
+            for (int c = 0; c < VBL_CLASS_COUNT; ++c) value.L[c] = vbl_v3_scale(value.L[c], weight);
+        if (est_aovs && weight > 0.0) {
+            acc->alpha += weight * value.aovs.alpha;
             if (value.aovs.depth_hit) {
-                acc->depth += value.aovs.depth;
-                acc->depth_hits += 1.0;
+                acc->depth += weight * value.aovs.depth;
+                acc->depth_hits += weight;
             }
         }
         double beauty[3] = {0.0, 0.0, 0.0};
@@ -306,6 +313,14 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             return r;
         }
         ctx.pt_guide = guide;
+    }
+    /* pixel_focus: the pixels holding the image of a point or spot light inside the media */
+    vbl_pixel_foci pixel_foci;
+    if (options->pixel_focus && ctx.extinction->count > 0) {
+        vbl_vec3 lo, hi;
+        const int has_box = vbl_pt_guide_bounds(scene, &lo, &hi);
+        vbl_pixel_foci_build(scene, has_box, lo, hi, &pixel_foci);
+        if (pixel_foci.count > 0) ctx.pixel_foci = &pixel_foci;
     }
     /* vrl.light_guide: the camera-importance grid, once per render (photon_trace.h) */
     vbl_light_guide* light_guide = NULL;

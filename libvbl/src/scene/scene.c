@@ -1,6 +1,7 @@
 /* Scene lifecycle, getters and the pinhole camera. */
 #include "scene/scene.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,6 +113,18 @@ vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out)
             return VBL_SUCCESS;
         }
     return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl, vbl, beams)", name ? name : "");
+}
+
+int vbl_camera_raster(const vbl_camera* camera, vbl_vec3 p, double* sx, double* sy)
+{
+    const vbl_vec3 d = vbl_v3_sub(p, camera->position);
+    const double z = vbl_v3_dot(d, camera->forward);
+    if (!(z > 0.0) || !(camera->tan_half_fov > 0.0)) return 0;
+    const double aspect = (double)camera->width / (double)camera->height;
+    const double a = vbl_v3_dot(d, camera->right) / z, b = vbl_v3_dot(d, camera->up) / z;
+    *sx = (a / (camera->tan_half_fov * aspect) + 1.0) * 0.5 * camera->width;
+    *sy = (1.0 - b / camera->tan_half_fov) * 0.5 * camera->height;
+    return isfinite(*sx) && isfinite(*sy);
 }
 
 void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction)

@@ -115,6 +115,8 @@ struct vbl_scene {
 
 /* Camera ray through continuous raster position (sx, sy), sy down from the top. */
 void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* origin, vbl_vec3* direction);
+/* The inverse: the raster position of scene point p; 0 if p is not in front of the camera. */
+int vbl_camera_raster(const vbl_camera* camera, vbl_vec3 p, double* sx, double* sy);
 
 /* Programmatic scene building (tests, bindings): a scene with only a camera, then media and
  * lights appended. add_medium retains `volume`; volume_to_scene NULL = identity. */

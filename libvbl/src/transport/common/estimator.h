@@ -58,6 +58,8 @@ typedef struct vbl_render_context {
                                      every class is skipped; what it adds there anyway the hybrid drops.
                                      0 (a memset context): every class */
     const struct vbl_hybrid_plan* hybrid; /* render.hybrid: the plan (render/hybrid.h), else NULL */
+    const struct vbl_pixel_foci* pixel_foci; /* pixel_focus: the pixels holding a light's image
+                                                (render/pixel_focus.h; NULL: none) */
     const struct vbl_light_guide* light_guide; /* vrl.light_guide: built once per render
                                                   (transport/common/photon_trace.h; NULL: off) */
 } vbl_render_context;

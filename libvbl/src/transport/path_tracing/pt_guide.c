@@ -47,7 +47,7 @@ static vbl_vec3 vbl_pt_guide_trace(const vbl_render_context* pre, vbl_thread_sta
 
 /* The scene-space box of the media's majorant grids (what tracking sees): every block grid's index
  * box through its volume's index-to-world map and the medium's placement. 0 without media. */
-static int vbl_pt_guide_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
+int vbl_pt_guide_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
 {
     int any = 0;
     for (int m = 0; m < scene->media_count; ++m) {

@@ -1,0 +1,95 @@
+/* Pixel positions towards a point light's image (pixel_focus.h). */
+#include "render/pixel_focus.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Triangle k of the pixel square [x0, x0+1] x [y0, y0+1] seen from c: its edge as a foot point,
+ * a unit direction along the edge, the perpendicular distance d and the offsets e0 < e1 of the
+ * edge's ends from the foot. Edges: 0 y = y0, 1 x = x0 + 1, 2 y = y0 + 1, 3 x = x0. */
+static void vbl_focus_edge(const vbl_pixel_focus* f, int k, double* fx, double* fy, double* ax, double* ay, double* d,
+                           double* e0, double* e1)
+{
+    const double x0 = f->px, y0 = f->py, x1 = x0 + 1.0, y1 = y0 + 1.0;
+    switch (k) {
+    case 0: *fx = f->cx, *fy = y0, *ax = 1.0, *ay = 0.0, *d = f->cy - y0, *e0 = x0 - f->cx, *e1 = x1 - f->cx; break;
+    case 1: *fx = x1, *fy = f->cy, *ax = 0.0, *ay = 1.0, *d = x1 - f->cx, *e0 = y0 - f->cy, *e1 = y1 - f->cy; break;
+    case 2: *fx = f->cx, *fy = y1, *ax = 1.0, *ay = 0.0, *d = y1 - f->cy, *e0 = x0 - f->cx, *e1 = x1 - f->cx; break;
+    default: *fx = x0, *fy = f->cy, *ax = 0.0, *ay = 1.0, *d = f->cx - x0, *e0 = y0 - f->cy, *e1 = y1 - f->cy; break;
+    }
+}
+
+int vbl_pixel_focus_make(int px, int py, double cx, double cy, vbl_pixel_focus* f)
+{
+    memset(f, 0, sizeof *f);
+    if (!(cx >= px && cx <= px + 1.0 && cy >= py && cy <= py + 1.0)) return 0;
+    f->px = px, f->py = py, f->cx = cx, f->cy = cy;
+    for (int k = 0; k < 4; ++k) {
+        double fx, fy, ax, ay, d, e0, e1;
+        vbl_focus_edge(f, k, &fx, &fy, &ax, &ay, &d, &e0, &e1);
+        /* int over the triangle of 1/r = int d / cos(theta) dtheta (r to the edge: d / cos) */
+        f->tri[k] = d > 1e-12 ? d * (asinh(e1 / d) - asinh(e0 / d)) : 0.0;
+        f->total += f->tri[k];
+    }
+    return f->total > 0.0 && isfinite(f->total);
+}
+
+void vbl_pixel_foci_build(const vbl_scene* scene, int has_box, vbl_vec3 lo, vbl_vec3 hi, vbl_pixel_foci* out)
+{
+    memset(out, 0, sizeof *out);
+    if (!has_box) return;
+    const vbl_camera* cam = &scene->camera;
+    for (int i = 0; i < scene->light_count && out->count < VBL_PIXEL_FOCUS_MAX; ++i) {
+        const vbl_light* l = &scene->lights[i];
+        if (l->type != VBL_LIGHT_POINT && l->type != VBL_LIGHT_SPOT) continue;
+        const vbl_vec3 p = l->position;
+        if (!(p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)) continue;
+        double sx, sy;
+        if (!vbl_camera_raster(cam, p, &sx, &sy)) continue;
+        if (!(sx >= 0.0 && sx < cam->width && sy >= 0.0 && sy < cam->height)) continue;
+        const int px = (int)sx, py = (int)sy;
+        if (vbl_pixel_foci_find(out, px, py)) continue;
+        if (vbl_pixel_focus_make(px, py, sx, sy, &out->focus[out->count])) ++out->count;
+    }
+}
+
+const vbl_pixel_focus* vbl_pixel_foci_find(const vbl_pixel_foci* foci, int px, int py)
+{
+    for (int i = 0; i < foci->count; ++i)
+        if (foci->focus[i].px == px && foci->focus[i].py == py) return &foci->focus[i];
+    return NULL;
+}
+
+double vbl_pixel_focus_pdf(const vbl_pixel_focus* f, double sx, double sy)
+{
+    const double r = hypot(sx - f->cx, sy - f->cy);
+    const double focused = r > 0.0 ? 1.0 / (r * f->total) : INFINITY;
+    return VBL_PIXEL_FOCUS_ALPHA + (1.0 - VBL_PIXEL_FOCUS_ALPHA) * focused;
+}
+
+double vbl_pixel_focus_sample(const vbl_pixel_focus* f, double choice, double u, double v, double* sx, double* sy)
+{
+    if (choice < VBL_PIXEL_FOCUS_ALPHA) { /* the uniform part */
+        *sx = f->px + u;
+        *sy = f->py + v;
+    } else { /* the 1/r part: a triangle by its integral, u reused inside it */
+        double target = u * f->total, acc = 0.0;
+        int k = 0;
+        while (k < 3 && (f->tri[k] <= 0.0 || target >= acc + f->tri[k])) acc += f->tri[k++];
+        while (k > 0 && !(f->tri[k] > 0.0)) --k; /* rounding past the last triangle with mass */
+        double s = f->tri[k] > 0.0 ? (target - acc) / f->tri[k] : 0.5;
+        s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+        double fx, fy, ax, ay, d, e0, e1;
+        vbl_focus_edge(f, k, &fx, &fy, &ax, &ay, &d, &e0, &e1);
+        const double a0 = asinh(e0 / d), a1 = asinh(e1 / d);
+        const double e = d * sinh(a0 + s * (a1 - a0)); /* offset along the edge */
+        const double ex = fx + ax * e, ey = fy + ay * e;
+        *sx = f->cx + v * (ex - f->cx);
+        *sy = f->cy + v * (ey - f->cy);
+        /* keep the position inside the pixel against rounding */
+        *sx = fmin(fmax(*sx, (double)f->px), nextafter(f->px + 1.0, f->px));
+        *sy = fmin(fmax(*sy, (double)f->py), nextafter(f->py + 1.0, f->py));
+    }
+    const double p = vbl_pixel_focus_pdf(f, *sx, *sy);
+    return p > 0.0 && isfinite(p) ? 1.0 / p : 0.0; /* the image itself (r = 0): weight 0, measure zero */
+}
