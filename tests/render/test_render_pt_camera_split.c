@@ -65,23 +65,16 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     if (cfg->paths > 0) o.pt.split_paths = cfg->paths;
     if (cfg->threads > 0) o.threads = cfg->threads;
     if (cfg->no_shadow_rr) o.pt.shadow_roulette = 0;
-    vbl_film* film = NULL;
-    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
-    return film;
+    return render_or_fail(scene, &o);
 }
 
 /* `on` is bit-identical at 1 and 2 threads and differs from `off` (seed 5): the option is active. */
 static void check_threads_and_active(const vbl_scene* scene, split_config on, split_config off)
 {
+    split_config on2 = on;
     on.threads = 1;
-    vbl_film* a = render_cfg(scene, &on, 5);
-    on.threads = off.threads = 2;
-    vbl_film* b = render_cfg(scene, &on, 5);
-    vbl_film* d = render_cfg(scene, &off, 5);
-    check_identical_and_differs(a, b, d);
-    vbl_film_release(a);
-    vbl_film_release(b);
-    vbl_film_release(d);
+    on2.threads = off.threads = 2;
+    check_configs_deterministic(render_cfg, scene, &on, &on2, &off);
 }
 
 static void test_deterministic_and_active(void** state)

@@ -39,9 +39,7 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     o.method = VBL_RENDER_PT;
     o.pt.shadow_roulette = cfg->roulette;
     if (cfg->threads > 0) o.threads = cfg->threads;
-    vbl_film* film = NULL;
-    if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
-    return film;
+    return render_or_fail(scene, &o);
 }
 
 static void test_deterministic_and_active(void** state)
@@ -49,15 +47,8 @@ static void test_deterministic_and_active(void** state)
     (void)state;
     vbl_volume* volume;
     vbl_scene* scene = pt_switch_scene(2.0, 0, 12, 10, &volume);
-    roulette_config on = {1, 2, 2, 1}, off = {0, 2, 2, 2};
-    vbl_film* a = render_cfg(scene, &on, 5);
-    on.threads = 2;
-    vbl_film* b = render_cfg(scene, &on, 5);
-    vbl_film* d = render_cfg(scene, &off, 5);
-    check_identical_and_differs(a, b, d);
-    vbl_film_release(a);
-    vbl_film_release(b);
-    vbl_film_release(d);
+    const roulette_config on1 = {1, 2, 2, 1}, on2 = {1, 2, 2, 2}, off = {0, 2, 2, 2};
+    check_configs_deterministic(render_cfg, scene, &on1, &on2, &off);
     vbl_scene_release(scene);
     vt_free(volume);
 }

@@ -116,6 +116,28 @@ static inline void layer_stats(layer_stats_render render, const vbl_scene* scene
     }
 }
 
+/* vbl_render(scene, o), failing the test with the library's message on error. */
+static inline vbl_film* render_or_fail(const vbl_scene* scene, const vbl_render_options* o)
+{
+    vbl_film* film = NULL;
+    if (vbl_render(scene, o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
+    return film;
+}
+
+/* The films of on1 and on2 (one configuration at 1 and at 2 threads) with seed 5 are bit-identical
+ * and differ from off's (check_identical_and_differs): the option is deterministic and active. */
+static inline void check_configs_deterministic(layer_stats_render render, const vbl_scene* scene, const void* on1,
+                                               const void* on2, const void* off)
+{
+    vbl_film* a = render(scene, on1, 5);
+    vbl_film* b = render(scene, on2, 5);
+    vbl_film* d = render(scene, off, 5);
+    check_identical_and_differs(a, b, d);
+    vbl_film_release(a);
+    vbl_film_release(b);
+    vbl_film_release(d);
+}
+
 /* Renders with estimator est (tt_options plus threads and max_bounces); fails the test on error. */
 static inline vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, int passes, int spp, int paths,
                                     uint64_t seed, int threads, int max_bounces)
