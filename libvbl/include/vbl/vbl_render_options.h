@@ -260,7 +260,8 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_shadow_roulette, shadow_roulette, int, BOOL, "pt.shadow_roulette", "--pt-shadow-roulette", 1, 0, \
       1, 0, NULL, HASH,                                                                                      \
       "pt: Russian roulette on the NEE shadow rays of medium vertices after the first scattering event, "   \
-      "survival 4 pi x throughput x albedo x phase value (at least 0.05; unbiased)")                         \
+      "survival 4 pi x phase value x throughput / the camera-visible vertex's throughput (at least 0.05; "  \
+      "unbiased)")                                                                                            \
     X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
       NULL, HASH,                                                                                            \
       "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \

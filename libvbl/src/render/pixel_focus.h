@@ -1,4 +1,4 @@
-/* Pixel positions drawn towards a point light's image (option render.pixel_focus).
+/* Pixel positions drawn towards a point light's image (option pixel_focus).
  *
  * Single scattering along a camera ray that passes a point or spot light at distance h in a
  * medium is (Kulla and Fajardo 2012, sec. 4.1, the equiangular integral)

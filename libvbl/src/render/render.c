@@ -318,7 +318,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     vbl_pixel_foci pixel_foci;
     if (options->pixel_focus && ctx.extinction->count > 0) {
         vbl_vec3 lo, hi;
-        const int has_box = vbl_pt_guide_bounds(scene, &lo, &hi);
+        const int has_box = vbl_scene_media_box(scene, &lo, &hi);
         vbl_pixel_foci_build(scene, has_box, lo, hi, &pixel_foci);
         if (pixel_foci.count > 0) ctx.pixel_foci = &pixel_foci;
     }

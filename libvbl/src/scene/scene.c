@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "volume/volume.h"
 
 void vbl_scene_retain(vbl_scene* scene)
 {
@@ -113,6 +114,30 @@ vbl_result vbl_render_method_parse(const char* name, vbl_render_method* out)
             return VBL_SUCCESS;
         }
     return vbl_error(VBL_ERROR_INVALID_ARGUMENT, "unknown render method '%s' (pt, vpl, vrl, vbl, beams)", name ? name : "");
+}
+
+/* The scene-space box of the media's majorant grids (what tracking sees): every block grid's index
+ * box through its volume's index-to-world map and the medium's placement. 0 without media. */
+int vbl_scene_media_box(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
+{
+    int any = 0;
+    for (int m = 0; m < scene->media_count; ++m) {
+        const vbl_volume* v = scene->media[m].volume;
+        if (!v) continue;
+        const vbl_majorant_grid* g = &v->majorant;
+        if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0) continue;
+        for (int c = 0; c < 8; ++c) {
+            vbl_vec3 p = vbl_v3(g->origin[0] + (c & 1 ? g->dims[0] * g->block : 0),
+                                g->origin[1] + (c & 2 ? g->dims[1] * g->block : 0),
+                                g->origin[2] + (c & 4 ? g->dims[2] * g->block : 0));
+            p = vbl_affine_point(&scene->media[m].volume_to_scene, vbl_affine_point(&v->index_to_world, p));
+            if (!any) *lo = *hi = p;
+            lo->x = fmin(lo->x, p.x), lo->y = fmin(lo->y, p.y), lo->z = fmin(lo->z, p.z);
+            hi->x = fmax(hi->x, p.x), hi->y = fmax(hi->y, p.y), hi->z = fmax(hi->z, p.z);
+            any = 1;
+        }
+    }
+    return any;
 }
 
 int vbl_camera_raster(const vbl_camera* camera, vbl_vec3 p, double* sx, double* sy)

@@ -118,6 +118,10 @@ void vbl_camera_ray(const vbl_camera* camera, double sx, double sy, vbl_vec3* or
 /* The inverse: the raster position of scene point p; 0 if p is not in front of the camera. */
 int vbl_camera_raster(const vbl_camera* camera, vbl_vec3 p, double* sx, double* sy);
 
+/* The scene-space box of the media's majorant grids (what tracking sees); 0 without media.
+ * (scene_camera.c frames the volumes' world bounding boxes instead: their active voxels.) */
+int vbl_scene_media_box(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi);
+
 /* Programmatic scene building (tests, bindings): a scene with only a camera, then media and
  * lights appended. add_medium retains `volume`; volume_to_scene NULL = identity. */
 vbl_result vbl_scene_create_empty(const char* name, const vbl_camera* camera, vbl_scene** out_scene);

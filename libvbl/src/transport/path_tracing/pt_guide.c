@@ -45,30 +45,6 @@ static vbl_vec3 vbl_pt_guide_trace(const vbl_render_context* pre, vbl_thread_sta
     return s;
 }
 
-/* The scene-space box of the media's majorant grids (what tracking sees): every block grid's index
- * box through its volume's index-to-world map and the medium's placement. 0 without media. */
-int vbl_pt_guide_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi)
-{
-    int any = 0;
-    for (int m = 0; m < scene->media_count; ++m) {
-        const vbl_volume* v = scene->media[m].volume;
-        if (!v) continue;
-        const vbl_majorant_grid* g = &v->majorant;
-        if (g->dims[0] <= 0 || g->dims[1] <= 0 || g->dims[2] <= 0) continue;
-        for (int c = 0; c < 8; ++c) {
-            vbl_vec3 p = vbl_v3(g->origin[0] + (c & 1 ? g->dims[0] * g->block : 0),
-                                g->origin[1] + (c & 2 ? g->dims[1] * g->block : 0),
-                                g->origin[2] + (c & 4 ? g->dims[2] * g->block : 0));
-            p = vbl_affine_point(&scene->media[m].volume_to_scene, vbl_affine_point(&v->index_to_world, p));
-            if (!any) *lo = *hi = p;
-            lo->x = fmin(lo->x, p.x), lo->y = fmin(lo->y, p.y), lo->z = fmin(lo->z, p.z);
-            hi->x = fmax(hi->x, p.x), hi->y = fmax(hi->y, p.y), hi->z = fmax(hi->z, p.z);
-            any = 1;
-        }
-    }
-    return any;
-}
-
 vbl_result vbl_pt_guide_build(const vbl_render_context* ctx, vbl_pt_guide** out)
 {
     *out = NULL;
@@ -78,7 +54,7 @@ vbl_result vbl_pt_guide_build(const vbl_render_context* ctx, vbl_pt_guide** out)
     const int n = ctx->options.pt.guide_cells, paths = ctx->options.pt.guide_paths;
     g->cells = 0;
     vbl_vec3 lo, hi;
-    if (ctx->extinction->count > 0 && vbl_pt_guide_bounds(scene, &lo, &hi)) {
+    if (ctx->extinction->count > 0 && vbl_scene_media_box(scene, &lo, &hi)) {
         g->cells = n;
         g->lo = lo;
         g->hi = hi;

@@ -42,9 +42,6 @@ typedef struct vbl_pt_guide {
 vbl_result vbl_pt_guide_build(const vbl_render_context* ctx, vbl_pt_guide** out);
 void vbl_pt_guide_free(vbl_pt_guide* guide);
 
-/* The scene-space box of the media's majorant grids (what tracking sees); 0 without media. */
-int vbl_pt_guide_bounds(const vbl_scene* scene, vbl_vec3* lo, vbl_vec3* hi);
-
 /* Cached mean incident radiance at x (0 outside the grid) and the pixel (px, py)'s estimate. */
 vbl_vec3 vbl_pt_guide_radiance(const vbl_pt_guide* g, vbl_vec3 x);
 double vbl_pt_guide_pixel(const vbl_pt_guide* g, int px, int py);
