@@ -51,7 +51,8 @@ void vbl_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts
 }
 
 void vbl_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
-                              vbl_vec3 wo, int last, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
+                              vbl_vec3 wo, int last, vbl_surface_pdf_fn dir_pdf, const void* dir_pdf_data,
+                              vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_material* m = &scene->materials[hit->material];
@@ -63,7 +64,8 @@ void vbl_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* t
     if (!(cos_i > 0.0)) return;
     vbl_vec3 f = vbl_material_eval(m, hit->shading_normal, wo, wi);
     if (!(vbl_v3_max_component(f) > 0.0)) return;
-    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_material_pdf(m, hit->shading_normal, wo, wi));
+    const double p_dir = dir_pdf ? dir_pdf(dir_pdf_data, m, hit, wo, wi) : vbl_material_pdf(m, hit->shading_normal, wo, wi);
+    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, p_dir);
     double s = w * cos_i / pdf;
     vbl_vec3 b = vbl_v3(beta.x * f.x * s, beta.y * f.y * s, beta.z * f.z * s);
     vbl_vec3 origin = vbl_surface_spawn(scene->surfaces, hit->position, hit->geometric_normal, wi);
@@ -112,7 +114,7 @@ void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* 
     if (!vbl_surfaces_intersect(scene->surfaces, o, d, 0.0, INFINITY, &hit)) return;
     const vbl_vec3 wo = vbl_v3_scale(d, -1.0);
     vbl_vec3* L = &out->L[VBL_CLASS_SURFACE_DIRECT];
-    vbl_emission_nee_surface(ctx, ts, &hit, wo, 0, one, rng, L);
+    vbl_emission_nee_surface(ctx, ts, &hit, wo, 0, NULL, NULL, one, rng, L);
     const vbl_material* m = &scene->materials[hit.material];
     double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf = 0.0;
     vbl_vec3 wi, f;

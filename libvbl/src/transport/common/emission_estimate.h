@@ -17,6 +17,7 @@
 #define VBL_TRANSPORT_EMISSION_ESTIMATE_H
 
 #include "geometry/surfaces.h"
+#include "material/material.h"
 #include "media/medium.h"
 #include "transport/common/estimator.h"
 
@@ -41,9 +42,15 @@ void vbl_emission_collect(const vbl_render_context* ctx, vbl_thread_state* ts, v
 void vbl_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x, vbl_vec3 travel,
                              double sigma_t, const vbl_medium_point* mp, int last, vbl_vec3 beta, vbl_rng* rng,
                              vbl_vec3* L);
-/* The same at a surface vertex (wo towards the previous vertex): beta f cos / pdf. */
+/* The density of the direction wi that the path's own sampling at a surface hit would draw (for
+ * the MIS weight against light sampling); data is the caller's. */
+typedef double (*vbl_surface_pdf_fn)(const void* data, const vbl_material* m, const vbl_surface_hit* hit, vbl_vec3 wo,
+                                     vbl_vec3 wi);
+/* The same at a surface vertex (wo towards the previous vertex): beta f cos / pdf, MIS against
+ * dir_pdf(dir_pdf_data, ...) (NULL: the material's BRDF sampling, vbl_material_pdf). */
 void vbl_emission_nee_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
-                              vbl_vec3 wo, int last, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L);
+                              vbl_vec3 wo, int last, vbl_surface_pdf_fn dir_pdf, const void* dir_pdf_data,
+                              vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L);
 
 /* What vbl_camera_media_emission adds besides volume_emission (bits). */
 #define VBL_EMISSION_DIRECT_VOLUME 1  /* volume_direct: light sampling at the first real collision */

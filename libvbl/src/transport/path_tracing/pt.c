@@ -37,6 +37,7 @@
 #include "transport/path_tracing/pt_direct_strata.h"
 #include "transport/path_tracing/pt_equiangular.h"
 #include "transport/path_tracing/pt_guide.h"
+#include "transport/path_tracing/pt_surface_focus.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
@@ -241,7 +242,8 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
 /* Next-event estimation at a surface hit (wo towards the previous vertex). */
 static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
                                       vbl_vec3 wo, const vbl_pt_path* path, const vbl_pt_dims* dims, int last,
-                                      vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
+                                      const vbl_pt_surface_focus* sfocus, vbl_vec3 beta, vbl_rng* rng,
+                                      vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_material* m = &scene->materials[hit->material];
@@ -258,9 +260,9 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     double T = vbl_ctx_transmittance(ctx, ts, origin, ls.wi, ls.distance, rng);
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
-    if (!ls.is_delta) /* at the path's last vertex no BRDF direction is traced: its density is 0 */
+    if (!ls.is_delta) /* at the path's last vertex no direction is traced: its density is 0 */
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
-                           last ? 0.0 : vbl_material_pdf(m, hit->shading_normal, wo, ls.wi));
+                           last ? 0.0 : vbl_pt_surface_focus_pdf(sfocus, m, hit, wo, ls.wi));
     double s = T * w * cos_i / (select_pdf * ls.pdf);
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
     L->x += beta.x * f.x * ls.li.x * s;
@@ -386,6 +388,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     vbl_render_context surface_first_ctx = *ctx;
     surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
     const vbl_pt_guide* guide = ctx->pt_guide;
+    vbl_pt_surface_focus sfocus;
+    vbl_pt_surface_focus_init(ctx, &sfocus);
     vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
     int branch_count = 0;
     vbl_rng branch_rng;
@@ -574,9 +578,10 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             vbl_pt_next_event_surface(path.events == 1 ? &surface_first_ctx : nee_ctx, ts, &hit, wo, &path, &dims,
-                                      last, beta, rng, out);
+                                      last, &sfocus, beta, rng, out);
             if (scene->has_emission && emission_nee)
-                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, beta, rng, &out->L[vbl_pt_class(&path)]);
+                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, vbl_pt_surface_focus_pdf_fn, &sfocus, beta, rng,
+                                         &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
             const vbl_material* m = &scene->materials[hit.material];
@@ -584,7 +589,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             else u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             vbl_vec3 f;
-            if (!vbl_material_sample(m, hit.shading_normal, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
+            /* pt.surface_focus: the BRDF's directions mixed with point lights' focus cones (pt_surface_focus.h) */
+            if (!vbl_pt_surface_focus_sample(&sfocus, m, &hit, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
             double cos_i = vbl_v3_dot(wi, hit.shading_normal);
             if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) break;
             double s = cos_i / pdf;
