@@ -262,11 +262,12 @@ typedef enum vbl_render_option_effect {
       "pt: Russian roulette on the NEE shadow rays of medium vertices after the first scattering event, "   \
       "survival 4 pi x phase value x throughput / the camera-visible vertex's throughput (at least 0.05; "  \
       "unbiased)")                                                                                            \
-    X(pt., pt_surface_focus, surface_focus, double, DOUBLE, "pt.surface_focus", "--pt-surface-focus", 0.25, 0, \
-      0.5, 0, NULL, HASH,                                                                                   \
-      "pt: share of surface vertices' scattered directions drawn from cones about the point and spot "     \
-      "lights inside the media (angle to the light uniform: density ~ 1/angle), the rest by the BRDF, "     \
-      "weighted by the mixture's density (rays passing near a light in smoke; 0: BRDF only; unbiased)")     \
+    X(pt., pt_light_focus, light_focus, double, DOUBLE, "pt.light_focus", "--pt-light-focus", 0.25, 0, 0.5, \
+      0, NULL, HASH,                                                                                         \
+      "pt: share of scattered directions (at surfaces and at the first 4 medium events) drawn from cones "  \
+      "about the point and spot lights inside the media (angle to the light uniform: density ~ 1/angle), " \
+      "the rest by the BRDF or phase function, weighted by the mixture's density (rays passing near a "   \
+      "light in smoke; 0: off; unbiased)")                                                                   \
     X(pt., pt_direct_strata, direct_strata, int, INT, "pt.direct_strata", "--pt-direct-strata", 1, 1, 64, 0,  \
       NULL, HASH,                                                                                            \
       "pt: camera rays' single scattering from distant (and, without pt.equiangular, point/spot) lights by " \

@@ -5,8 +5,8 @@
  * R along the axis at distance h = R sin psi, and single scattering from a point light there
  * grows like 1/h (Kulla and Fajardo 2012, sec. 4.1); with this density the ratio stays bounded,
  * where a BRDF's bounded density gives infinite variance (int (1/h)^2 h dh diverges). pt samples
- * surface vertices' directions from it towards point lights in media (pt.surface_focus,
- * transport/path_tracing/pt_surface_focus.h), the direction-space twin of pixel_focus. */
+ * scattered directions from it towards point lights in media (pt.light_focus,
+ * transport/path_tracing/pt_light_focus.h), the direction-space twin of pixel_focus. */
 #ifndef VBL_SAMPLING_FOCUS_CONE_H
 #define VBL_SAMPLING_FOCUS_CONE_H
 

@@ -34,8 +34,8 @@ void vbl_emission_collect(const vbl_render_context* ctx, vbl_thread_state* ts, v
 }
 
 void vbl_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x, vbl_vec3 travel,
-                             double sigma_t, const vbl_medium_point* mp, int last, vbl_vec3 beta, vbl_rng* rng,
-                             vbl_vec3* L)
+                             double sigma_t, const vbl_medium_point* mp, int last, vbl_medium_pdf_fn dir_pdf,
+                             const void* dir_pdf_data, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf;
@@ -44,7 +44,8 @@ void vbl_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts
     double cos_theta = vbl_v3_dot(travel, wi);
     vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
-    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, vbl_medium_phase_pdf(mp, cos_theta));
+    const double p_dir = dir_pdf ? dir_pdf(dir_pdf_data, mp, x, travel, wi) : vbl_medium_phase_pdf(mp, cos_theta);
+    double w = last ? 1.0 : vbl_mis_weight(ctx->options.mis, pdf, p_dir);
     double s = w / (pdf * sigma_t);
     vbl_vec3 b = vbl_v3(beta.x * kernel.x * s, beta.y * kernel.y * s, beta.z * kernel.z * s);
     vbl_emission_collect(ctx, ts, x, wi, b, rng, L);
@@ -101,7 +102,7 @@ void vbl_camera_media_emission(const vbl_render_context* ctx, vbl_thread_state* 
         const vbl_vec3 x = vbl_v3_madd(o, d, t);
         vbl_medium_point_apply_grids(scene, x, ts->cursor.time, &mp); /* albedo grids */
         vbl_vec3* L = &out->L[VBL_CLASS_VOLUME_DIRECT];
-        vbl_emission_nee_medium(ctx, ts, x, d, sigma_t, &mp, 0, one, rng, L);
+        vbl_emission_nee_medium(ctx, ts, x, d, sigma_t, &mp, 0, NULL, NULL, one, rng, L);
         double u0 = vbl_rng_uniform(rng), u1 = vbl_rng_uniform(rng), u2 = vbl_rng_uniform(rng), pdf = 0.0;
         vbl_vec3 wi;
         if (!vbl_medium_phase_sample(&mp, d, u0, u1, u2, &wi, &pdf)) return;

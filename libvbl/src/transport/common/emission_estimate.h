@@ -36,12 +36,19 @@ void vbl_emission_visit(void* user, vbl_vec3 p, double mu, const double* per_com
 void vbl_emission_collect(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin, vbl_vec3 wi,
                           vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L);
 
+/* The density of the direction wi that the path's own sampling at medium point x (reached
+ * travelling along `travel`) would draw, for the MIS weight against light sampling; data is the
+ * caller's. */
+typedef double (*vbl_medium_pdf_fn)(const void* data, const vbl_medium_point* mp, vbl_vec3 x, vbl_vec3 travel,
+                                    vbl_vec3 wi);
+
 /* Light sampling of the emissive media at medium vertex x (reached travelling along `travel`,
  * sigma_t and mp there): three uniforms, then the collecting ray; beta kernel / (pdf sigma_t)
- * times the MIS weight (1 when `last`) into *L. */
+ * times the MIS weight (1 when `last`) against dir_pdf(dir_pdf_data, ...) (NULL: phase sampling,
+ * vbl_medium_phase_pdf) into *L. */
 void vbl_emission_nee_medium(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 x, vbl_vec3 travel,
-                             double sigma_t, const vbl_medium_point* mp, int last, vbl_vec3 beta, vbl_rng* rng,
-                             vbl_vec3* L);
+                             double sigma_t, const vbl_medium_point* mp, int last, vbl_medium_pdf_fn dir_pdf,
+                             const void* dir_pdf_data, vbl_vec3 beta, vbl_rng* rng, vbl_vec3* L);
 /* The density of the direction wi that the path's own sampling at a surface hit would draw (for
  * the MIS weight against light sampling); data is the caller's. */
 typedef double (*vbl_surface_pdf_fn)(const void* data, const vbl_material* m, const vbl_surface_hit* hit, vbl_vec3 wo,

@@ -37,7 +37,7 @@
 #include "transport/path_tracing/pt_direct_strata.h"
 #include "transport/path_tracing/pt_equiangular.h"
 #include "transport/path_tracing/pt_guide.h"
-#include "transport/path_tracing/pt_surface_focus.h"
+#include "transport/path_tracing/pt_light_focus.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
@@ -199,8 +199,9 @@ static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
  * 0: always traced. */
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
-                                     const vbl_pt_dims* dims, int last, double rr_ref, vbl_vec3 beta,
-                                     vbl_rng* rng, vbl_sample_value* out)
+                                     const vbl_pt_dims* dims, int last, double rr_ref,
+                                     const vbl_pt_light_focus_vertex* fv, vbl_vec3 beta, vbl_rng* rng,
+                                     vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -222,8 +223,10 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) / q;
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
-    /* at the path's last vertex no phase direction is traced: that strategy's density is 0 */
-    const double phase_pdf = last ? 0.0 : phase;
+    /* at the path's last vertex no phase direction is traced: that strategy's density is 0; the
+     * traced direction's density is pt.light_focus's mixture where it is on (pt_light_focus.h) */
+    const double phase_pdf = last ? 0.0 : (fv && fv->c > 0.0 ? vbl_pt_light_focus_medium_pdf(fv, mp, x, travel, ls.wi)
+                                                               : phase);
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
         const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
         w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, phase_pdf, VBL_PT_EQ_NEE);
@@ -242,7 +245,7 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
 /* Next-event estimation at a surface hit (wo towards the previous vertex). */
 static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_surface_hit* hit,
                                       vbl_vec3 wo, const vbl_pt_path* path, const vbl_pt_dims* dims, int last,
-                                      const vbl_pt_surface_focus* sfocus, vbl_vec3 beta, vbl_rng* rng,
+                                      const vbl_pt_light_focus* focus, vbl_vec3 beta, vbl_rng* rng,
                                       vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
@@ -262,7 +265,7 @@ static void vbl_pt_next_event_surface(const vbl_render_context* ctx, vbl_thread_
     double w = 1.0;
     if (!ls.is_delta) /* at the path's last vertex no direction is traced: its density is 0 */
         w = vbl_mis_weight(ctx->options.mis, select_pdf * ls.pdf,
-                           last ? 0.0 : vbl_pt_surface_focus_pdf(sfocus, m, hit, wo, ls.wi));
+                           last ? 0.0 : vbl_pt_light_focus_surface_pdf(focus, m, hit, wo, ls.wi));
     double s = T * w * cos_i / (select_pdf * ls.pdf);
     vbl_vec3* L = &out->L[vbl_pt_class(path)];
     L->x += beta.x * f.x * ls.li.x * s;
@@ -388,8 +391,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     vbl_render_context surface_first_ctx = *ctx;
     surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
     const vbl_pt_guide* guide = ctx->pt_guide;
-    vbl_pt_surface_focus sfocus;
-    vbl_pt_surface_focus_init(ctx, &sfocus);
+    vbl_pt_light_focus focus;
+    vbl_pt_light_focus_init(ctx, &focus);
     vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
     int branch_count = 0;
     vbl_rng branch_rng;
@@ -532,8 +535,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
+            const vbl_pt_light_focus_vertex next_fv = vbl_pt_light_focus_at_event(&focus, next.events);
             vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t,
-                                   !next_last, rng,
+                                   !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, rng,
                                    &out->L[vbl_pt_class(&next)]);
         }
         if (split_end) break;
@@ -557,16 +561,19 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             /* pt.shadow_roulette: after the first scattering event (the camera-visible vertex keeps
              * every shadow ray: volume_direct) */
             const double shadow_rr = shadow_roulette && path.events >= 2 ? beta_first : 0.0;
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, beta, rng,
-                                     out);
+            /* pt.light_focus: this vertex's directions (and every MIS weight using their density) */
+            const vbl_pt_light_focus_vertex fv = vbl_pt_light_focus_at_event(&focus, path.events);
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, &fv, beta,
+                                     rng, out);
             if (scene->has_emission && emission_nee)
-                vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, beta, rng, &out->L[vbl_pt_class(&path)]);
+                vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, vbl_pt_light_focus_medium_pdf_fn,
+                                        &fv, beta, rng, &out->L[vbl_pt_class(&path)]);
             if (last) break;
-            /* continue by sampling the sigma_s-weighted phase mixture */
+            /* continue by sampling the sigma_s-weighted phase mixture (with pt.light_focus's cones) */
             if (dims.sobol) vbl_pt_u2(&dims, VBL_PT_PAIR_EVENT, path.events, rng, &u0, &u_rr);
             else u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
-            if (!vbl_medium_phase_sample(&mp, direction, u0, u1, u2, &wi, &pdf)) break;
+            if (!vbl_pt_light_focus_medium_sample(&fv, &mp, x, direction, u0, u1, u2, &wi, &pdf)) break;
             vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, wi));
             beta = vbl_v3_scale(vbl_v3_mul(beta, kernel), 1.0 / (pdf * sigma_t));
             if (eq_quads) {
@@ -578,9 +585,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             vbl_pt_next_event_surface(path.events == 1 ? &surface_first_ctx : nee_ctx, ts, &hit, wo, &path, &dims,
-                                      last, &sfocus, beta, rng, out);
+                                      last, &focus, beta, rng, out);
             if (scene->has_emission && emission_nee)
-                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, vbl_pt_surface_focus_pdf_fn, &sfocus, beta, rng,
+                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, vbl_pt_light_focus_surface_pdf_fn, &focus, beta, rng,
                                          &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
@@ -589,8 +596,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             else u0 = vbl_rng_uniform(rng);
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             vbl_vec3 f;
-            /* pt.surface_focus: the BRDF's directions mixed with point lights' focus cones (pt_surface_focus.h) */
-            if (!vbl_pt_surface_focus_sample(&sfocus, m, &hit, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
+            /* pt.light_focus: the BRDF's directions mixed with the lights' cones (pt_light_focus.h) */
+            if (!vbl_pt_light_focus_surface_sample(&focus, m, &hit, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
             double cos_i = vbl_v3_dot(wi, hit.shading_normal);
             if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) break;
             double s = cos_i / pdf;

@@ -117,7 +117,8 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_rng* rng, vbl_vec3* L)
+                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data, vbl_rng* rng,
+                            vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
@@ -163,7 +164,10 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     if (quad) {
         double nee, phase, eq;
         vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf,
-                                 phase_traced ? vbl_medium_phase_pdf(&mp, cos_theta) : 0.0, &nee,
+                                 !phase_traced ? 0.0
+                                 : dir_pdf   ? dir_pdf(dir_pdf_data, &mp, x, direction, ls.wi)
+                                             : vbl_medium_phase_pdf(&mp, cos_theta),
+                                 &nee,
                                  &phase, &eq);
         q = eq;
         w = vbl_pt_eq_weight3(ctx->options.mis, eq, nee, phase);

@@ -33,6 +33,7 @@
 #ifndef VBL_TRANSPORT_PT_EQUIANGULAR_H
 #define VBL_TRANSPORT_PT_EQUIANGULAR_H
 
+#include "transport/common/emission_estimate.h"
 #include "transport/common/estimator.h"
 
 /* 1 if options select equiangular NEE and the scene has a point or spot light (or a quad light
@@ -64,7 +65,8 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
  * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_rng* rng, vbl_vec3* L);
+                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data, vbl_rng* rng,
+                            vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light
