@@ -1,4 +1,4 @@
-/* Focus cone directions (sampling/focus_cone.h; pt.surface_focus): angle to the axis uniform in
+/* Focus cone directions (sampling/focus_cone.h; pt.light_focus): angle to the axis uniform in
  * [0, psi_max], density 1 / (2 pi psi_max sin psi).
  *   - chi-square in the cone's own frame over equal-area (cos psi, phi) cells against the claimed
  *     law (sampling uniform in cos psi, the uniform cone's law, fails it);
