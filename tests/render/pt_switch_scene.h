@@ -22,6 +22,15 @@ static inline vbl_light pt_switch_quad_light(vbl_vec3 corner, vbl_vec3 e1, vbl_v
     return q;
 }
 
+/* The scene's Lambert floor (z = -1) and wall (y = 1.2) around the unit sphere's medium. */
+static inline void pt_switch_surfaces(vbl_scene* scene)
+{
+    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
+    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
+    add_quad(scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+}
+
 /* The sphere tt_make_sphere(16, 0.9) (albedo (0.9, 0.8, 0.7), g 0.3, density_scale) seen through
  * a w x h film; quad_only: one 1 x 1 quad light inside the top of the medium and no other light
  * (the paths the three quad strategies share then carry most of volume_direct). The volume goes
@@ -41,10 +50,7 @@ static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, in
     vbl_light q = pt_switch_quad_light(quad_only ? vbl_v3(-0.5, -0.5, 0.35) : vbl_v3(-1.0, -0.6, 1.6),
                                        vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, -1), 2.0);
     assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
-    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
-    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
-    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
-    add_quad(scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+    pt_switch_surfaces(scene);
     return scene;
 }
 

@@ -65,10 +65,7 @@ static vbl_scene* focus_scene(double density_scale, vbl_vec3 point, double inten
     tt_add_point(scene, point, intensity);
     vbl_light q = pt_switch_quad_light(vbl_v3(-1.0, -0.6, 1.6), vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, -1), 1.0);
     assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
-    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
-    vbl_material wall = {VBL_MATERIAL_LAMBERT, {0.6, 0.7, 0.6}, {0, 0, 0}, 0.0, 0.0};
-    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
-    add_quad(scene, vbl_v3(0, 1.2, 0.5), vbl_v3(2.5, 0, 0), vbl_v3(0, 0, 1.5), &wall);
+    pt_switch_surfaces(scene);
     return scene;
 }
 
