@@ -225,8 +225,8 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     double w = 1.0;
     /* at the path's last vertex no phase direction is traced: that strategy's density is 0; the
      * traced direction's density is pt.light_focus's mixture where it is on (pt_light_focus.h) */
-    const double phase_pdf = last ? 0.0 : (fv && fv->c > 0.0 ? vbl_pt_light_focus_medium_pdf(fv, mp, x, travel, ls.wi)
-                                                               : phase);
+    const double phase_pdf = last || ls.is_delta ? 0.0 /* delta lights: not used below */
+                             : (fv && fv->c > 0.0 ? vbl_pt_light_focus_medium_pdf(fv, mp, x, travel, ls.wi) : phase);
     if (light->type == VBL_LIGHT_QUAD && vbl_pt_equiangular_quads_active(ctx)) { /* three strategies */
         const vbl_pt_eq_vertex v = {seg->origin, travel, seg->t_surface, t, sigma_t};
         w = vbl_pt_equiangular_quad_weight(ctx, light, &v, ls.wi, ls.distance, phase_pdf, VBL_PT_EQ_NEE);
