@@ -30,9 +30,13 @@ int vbl_focus_cone_sample(vbl_vec3 axis, double psi_max, double u1, double u2, v
 double vbl_focus_cone_pdf(vbl_vec3 axis, double psi_max, vbl_vec3 w)
 {
     if (!vbl_focus_cone_valid(psi_max)) return 0.0;
-    /* psi by atan2(|axis x w|, axis . w): accurate near the axis, where acos is not */
-    const double s = vbl_v3_length(vbl_v3_cross(axis, w)), c = vbl_v3_dot(axis, w);
-    const double psi = atan2(s, c);
-    if (!(psi < psi_max)) return 0.0;
-    return vbl_focus_cone_density(psi_max, sin(psi));
+    return vbl_focus_cone_pdf_cos(axis, psi_max, cos(psi_max), w);
+}
+
+double vbl_focus_cone_pdf_cos(vbl_vec3 axis, double psi_max, double cos_max, vbl_vec3 w)
+{
+    /* psi < psi_max <=> cos psi > cos psi_max (cos decreases on [0, pi]); sin psi = |axis x w|
+     * for unit vectors (accurate near the axis, where 1 - cos^2 is not) */
+    if (!(vbl_v3_dot(axis, w) > cos_max)) return 0.0;
+    return vbl_focus_cone_density(psi_max, vbl_v3_length(vbl_v3_cross(axis, w)));
 }

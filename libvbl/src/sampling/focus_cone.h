@@ -22,6 +22,8 @@ int vbl_focus_cone_sample(vbl_vec3 axis, double psi_max, double u1, double u2, v
 
 /* The density of unit w (0 beyond psi_max, on the axis itself, or for psi_max out of range). */
 double vbl_focus_cone_pdf(vbl_vec3 axis, double psi_max, vbl_vec3 w);
+/* The same with cos_max = cos(psi_max) given (psi_max in range): no trigonometry per call. */
+double vbl_focus_cone_pdf_cos(vbl_vec3 axis, double psi_max, double cos_max, vbl_vec3 w);
 
 #ifdef __cplusplus
 }

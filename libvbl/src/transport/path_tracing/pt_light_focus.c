@@ -26,47 +26,54 @@ void vbl_pt_light_focus_init(const vbl_render_context* ctx, vbl_pt_light_focus* 
     if (lf->count > 0 && lf->radius > 0.0 && isfinite(lf->radius)) lf->fraction = c;
 }
 
-/* The axis and half-angle of light i's cone at x; 0 where x is at the light. */
-static int vbl_pt_focus_cone(const vbl_pt_light_focus* lf, int i, vbl_vec3 x, vbl_vec3* axis, double* psi_max)
+/* One light's cone at a vertex: axis, half-angle and its cosine. */
+typedef struct vbl_pt_cone {
+    vbl_vec3 axis;
+    double psi_max, cos_max;
+} vbl_pt_cone;
+
+/* Light i's cone at x; 0 where x is at the light. psi_max = atan(rho / r), cos psi_max =
+ * r / sqrt(r^2 + rho^2). */
+static int vbl_pt_focus_cone(const vbl_pt_light_focus* lf, int i, vbl_vec3 x, vbl_pt_cone* cone)
 {
     const vbl_vec3 d = vbl_v3_sub(lf->light[i], x);
     const double r = vbl_v3_length(d);
     if (!(r > 0.0) || !isfinite(r)) return 0;
-    *axis = vbl_v3_scale(d, 1.0 / r);
-    *psi_max = atan2(lf->radius, r); /* in (0, pi/2] */
-    return *psi_max > 0.0;
+    cone->axis = vbl_v3_scale(d, 1.0 / r);
+    cone->psi_max = atan2(lf->radius, r); /* in (0, pi/2] */
+    cone->cos_max = r / hypot(r, lf->radius);
+    return cone->psi_max > 0.0 && isfinite(cone->cos_max);
 }
 
 /* The cones taking part at x (n_above: only lights above the plane of normal n through x; NULL:
- * all): their axes and half-angles, and their count. */
+ * all), and their count. */
 static int vbl_pt_focus_cones(const vbl_pt_light_focus* lf, vbl_vec3 x, const vbl_vec3* n_above,
-                              vbl_vec3 axes[VBL_PT_LIGHT_FOCUS_MAX], double psi[VBL_PT_LIGHT_FOCUS_MAX])
+                              vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX])
 {
     int n = 0;
     for (int i = 0; i < lf->count; ++i) {
-        if (!vbl_pt_focus_cone(lf, i, x, &axes[n], &psi[n])) continue;
-        if (n_above && !(vbl_v3_dot(axes[n], *n_above) > 0.0)) continue;
+        if (!vbl_pt_focus_cone(lf, i, x, &cones[n])) continue;
+        if (n_above && !(vbl_v3_dot(cones[n].axis, *n_above) > 0.0)) continue;
         ++n;
     }
     return n;
 }
 
 /* (1 / n) sum_j p_j(wi) over the cones */
-static double vbl_pt_focus_mean_pdf(int n, const vbl_vec3* axes, const double* psi, vbl_vec3 wi)
+static double vbl_pt_focus_mean_pdf(int n, const vbl_pt_cone* cones, vbl_vec3 wi)
 {
     double sum = 0.0;
-    for (int j = 0; j < n; ++j) sum += vbl_focus_cone_pdf(axes[j], psi[j], wi);
+    for (int j = 0; j < n; ++j) sum += vbl_focus_cone_pdf_cos(cones[j].axis, cones[j].psi_max, cones[j].cos_max, wi);
     return sum / n;
 }
 
 /* A direction from cone floor(n u0 / c) of the n (u0 < c). */
-static int vbl_pt_focus_pick(int n, const vbl_vec3* axes, const double* psi, double c, double u0, double u1, double u2,
-                             vbl_vec3* wi)
+static int vbl_pt_focus_pick(int n, const vbl_pt_cone* cones, double c, double u0, double u1, double u2, vbl_vec3* wi)
 {
     int k = (int)(u0 / c * n);
     if (k >= n) k = n - 1;
     double pk;
-    return vbl_focus_cone_sample(axes[k], psi[k], u1, u2, wi, &pk);
+    return vbl_focus_cone_sample(cones[k].axis, cones[k].psi_max, u1, u2, wi, &pk);
 }
 
 /* (u0 - c) / (1 - c): uniform in [0, 1) again for u0 in [c, 1) */
@@ -83,10 +90,9 @@ double vbl_pt_light_focus_surface_pdf(const vbl_pt_light_focus* lf, const vbl_ma
 {
     const double p = vbl_material_pdf(m, hit->shading_normal, wo, wi);
     if (!(lf->fraction > 0.0)) return p;
-    vbl_vec3 axes[VBL_PT_LIGHT_FOCUS_MAX];
-    double psi[VBL_PT_LIGHT_FOCUS_MAX];
-    const int n = vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, axes, psi);
-    return n > 0 ? lf->fraction * vbl_pt_focus_mean_pdf(n, axes, psi, wi) + (1.0 - lf->fraction) * p : p;
+    vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
+    const int n = vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, cones);
+    return n > 0 ? lf->fraction * vbl_pt_focus_mean_pdf(n, cones, wi) + (1.0 - lf->fraction) * p : p;
 }
 
 double vbl_pt_light_focus_surface_pdf_fn(const void* data, const vbl_material* m, const vbl_surface_hit* hit,
@@ -100,20 +106,19 @@ int vbl_pt_light_focus_surface_sample(const vbl_pt_light_focus* lf, const vbl_ma
                                       vbl_vec3* wi, double* pdf, vbl_vec3* f)
 {
     const double c = lf->fraction;
-    vbl_vec3 axes[VBL_PT_LIGHT_FOCUS_MAX];
-    double psi[VBL_PT_LIGHT_FOCUS_MAX];
-    const int n = c > 0.0 ? vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, axes, psi) : 0;
+    vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
+    const int n = c > 0.0 ? vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, cones) : 0;
     if (n == 0) return vbl_material_sample(m, hit->shading_normal, wo, u0, u1, u2, wi, pdf, f);
     double p_brdf;
     if (u0 < c) {
-        if (!vbl_pt_focus_pick(n, axes, psi, c, u0, u1, u2, wi)) return 0;
+        if (!vbl_pt_focus_pick(n, cones, c, u0, u1, u2, wi)) return 0;
         *f = vbl_material_eval(m, hit->shading_normal, wo, *wi);
         p_brdf = vbl_material_pdf(m, hit->shading_normal, wo, *wi);
     } else if (!vbl_material_sample(m, hit->shading_normal, wo, vbl_pt_focus_rest(u0, c), u1, u2, wi, &p_brdf, f)) {
         return 0;
     }
     /* the mixture's density from the densities' own formulas (the same function as _pdf) */
-    *pdf = c * vbl_pt_focus_mean_pdf(n, axes, psi, *wi) + (1.0 - c) * p_brdf;
+    *pdf = c * vbl_pt_focus_mean_pdf(n, cones, *wi) + (1.0 - c) * p_brdf;
     return *pdf > 0.0 && isfinite(*pdf);
 }
 
@@ -131,10 +136,9 @@ double vbl_pt_light_focus_medium_pdf(const vbl_pt_light_focus_vertex* v, const v
 {
     const double p = vbl_medium_phase_pdf(mp, vbl_v3_dot(travel, wi));
     if (!v || !(v->c > 0.0)) return p;
-    vbl_vec3 axes[VBL_PT_LIGHT_FOCUS_MAX];
-    double psi[VBL_PT_LIGHT_FOCUS_MAX];
-    const int n = vbl_pt_focus_cones(v->focus, x, NULL, axes, psi);
-    return n > 0 ? v->c * vbl_pt_focus_mean_pdf(n, axes, psi, wi) + (1.0 - v->c) * p : p;
+    vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
+    const int n = vbl_pt_focus_cones(v->focus, x, NULL, cones);
+    return n > 0 ? v->c * vbl_pt_focus_mean_pdf(n, cones, wi) + (1.0 - v->c) * p : p;
 }
 
 double vbl_pt_light_focus_medium_pdf_fn(const void* data, const vbl_medium_point* mp, vbl_vec3 x, vbl_vec3 travel,
@@ -147,15 +151,14 @@ int vbl_pt_light_focus_medium_sample(const vbl_pt_light_focus_vertex* v, const v
                                      vbl_vec3 travel, double u0, double u1, double u2, vbl_vec3* wi, double* pdf)
 {
     const double c = v ? v->c : 0.0;
-    vbl_vec3 axes[VBL_PT_LIGHT_FOCUS_MAX];
-    double psi[VBL_PT_LIGHT_FOCUS_MAX];
-    const int n = c > 0.0 ? vbl_pt_focus_cones(v->focus, x, NULL, axes, psi) : 0;
+    vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
+    const int n = c > 0.0 ? vbl_pt_focus_cones(v->focus, x, NULL, cones) : 0;
     if (n == 0) return vbl_medium_phase_sample(mp, travel, u0, u1, u2, wi, pdf);
     if (u0 < c) {
-        if (!vbl_pt_focus_pick(n, axes, psi, c, u0, u1, u2, wi)) return 0;
+        if (!vbl_pt_focus_pick(n, cones, c, u0, u1, u2, wi)) return 0;
     } else if (!vbl_medium_phase_sample(mp, travel, vbl_pt_focus_rest(u0, c), u1, u2, wi, pdf)) {
         return 0;
     }
-    *pdf = c * vbl_pt_focus_mean_pdf(n, axes, psi, *wi) + (1.0 - c) * vbl_medium_phase_pdf(mp, vbl_v3_dot(travel, *wi));
+    *pdf = c * vbl_pt_focus_mean_pdf(n, cones, *wi) + (1.0 - c) * vbl_medium_phase_pdf(mp, vbl_v3_dot(travel, *wi));
     return *pdf > 0.0 && isfinite(*pdf);
 }
