@@ -8,7 +8,7 @@
  *     smoky sphere with a point light inside, a quad light (lights hit by scattered rays: the
  *     MIS uses the mixture's density) and a Lambert floor and wall; in an emissive sphere (the
  *     emission NEEs' MIS uses the mixture's density too); with a large quad light next to the
- *     point light (the quads' equiangular three-strategy weights);
+ *     point light (the quads' equiangular three-strategy weights); with a spot light instead;
  *   - the variance it exists to cut: in the first scene with two scattering events, the spread
  *     over the K renders of surface_from_volume and volume_from_volume is below SPREAD_MAX x that
  *     of BRDF and phase sampling. Their fireflies come from rays that leave a surface or a medium
@@ -204,6 +204,24 @@ static void test_quad_near_the_light_agrees(void** state)
     vt_free(volume);
 }
 
+/* A spot light inside the smoke, aimed down at the floor (the focus aims at its position, also
+ * outside its cone, where the light adds nothing: unbiased, only wasted samples), as the only
+ * light besides the quad. */
+static void test_spot_light_agrees(void** state)
+{
+    (void)state;
+    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, 8, 8);
+    vbl_scene* scene = tt_scene(&cam);
+    vbl_volume* volume = tt_make_sphere(16, 0.9);
+    assert_int_equal(vbl_scene_add_medium(scene, volume, 2.0, vbl_v3(0.9, 0.9, 0.9), 0.3, NULL), VBL_SUCCESS);
+    tt_add_spot(scene, light_inside, vbl_v3_normalize(vbl_v3(0.2, 0.3, -1.0)), 4.0, 20.0, 35.0);
+    pt_switch_surfaces(scene);
+    double se_on[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
+    check_agreement(scene, 1, 32, 0, K, se_on, se_off);
+    vbl_scene_release(scene);
+    vt_free(volume);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -213,6 +231,7 @@ int main(void)
         cmocka_unit_test(test_less_spread),
         cmocka_unit_test(test_emission_agrees),
         cmocka_unit_test(test_quad_near_the_light_agrees),
+        cmocka_unit_test(test_spot_light_agrees),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
