@@ -52,21 +52,28 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     return render_or_fail(scene, &o);
 }
 
-/* The sphere tt_make_sphere(16, 0.9) (albedo 0.9, g 0.3) with a point light of `intensity` inside it, a quad
- * light above, a Lambert floor and wall; w x h film. */
-static vbl_scene* focus_scene(double density_scale, vbl_vec3 point, double intensity, int w, int h,
-                              vbl_volume** volume)
+/* The sphere tt_make_sphere(16, 0.9) (albedo 0.9, g 0.3) with a point light (spot: a spot light
+ * aimed down) of `intensity` inside it, a quad light above, a Lambert floor and wall; w x h film. */
+static vbl_scene* focus_scene_lit(double density_scale, vbl_vec3 point, double intensity, int spot, int w, int h,
+                                  vbl_volume** volume)
 {
     vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, w, h);
     vbl_scene* scene = tt_scene(&cam);
     *volume = tt_make_sphere(16, 0.9);
     assert_int_equal(vbl_scene_add_medium(scene, *volume, density_scale, vbl_v3(0.9, 0.9, 0.9), 0.3, NULL),
                      VBL_SUCCESS);
-    tt_add_point(scene, point, intensity);
+    if (spot) tt_add_spot(scene, point, vbl_v3_normalize(vbl_v3(0.2, 0.3, -1.0)), intensity, 20.0, 35.0);
+    else tt_add_point(scene, point, intensity);
     vbl_light q = pt_switch_quad_light(vbl_v3(-1.0, -0.6, 1.6), vbl_v3(0, 1, 0), vbl_v3(1, 0, 0), vbl_v3(0, 0, -1), 1.0);
     assert_int_equal(vbl_scene_add_light(scene, &q), VBL_SUCCESS);
     pt_switch_surfaces(scene);
     return scene;
+}
+
+/* The scene with a point light. */
+static vbl_scene* focus_scene(double density_scale, vbl_vec3 point, double intensity, int w, int h, vbl_volume** volume)
+{
+    return focus_scene_lit(density_scale, point, intensity, 0, w, h, volume);
 }
 
 static const vbl_vec3 light_inside = {0.15, -0.2, 0.25};
@@ -204,18 +211,13 @@ static void test_quad_near_the_light_agrees(void** state)
     vt_free(volume);
 }
 
-/* A spot light inside the smoke, aimed down at the floor (the focus aims at its position, also
- * outside its cone, where the light adds nothing: unbiased, only wasted samples), as the only
- * light besides the quad. */
+/* A spot light inside the smoke instead, aimed down at the floor (the focus aims at its position,
+ * also outside its cone, where the light adds nothing: unbiased, only wasted samples). */
 static void test_spot_light_agrees(void** state)
 {
     (void)state;
-    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.3), 45.0, 8, 8);
-    vbl_scene* scene = tt_scene(&cam);
-    vbl_volume* volume = tt_make_sphere(16, 0.9);
-    assert_int_equal(vbl_scene_add_medium(scene, volume, 2.0, vbl_v3(0.9, 0.9, 0.9), 0.3, NULL), VBL_SUCCESS);
-    tt_add_spot(scene, light_inside, vbl_v3_normalize(vbl_v3(0.2, 0.3, -1.0)), 4.0, 20.0, 35.0);
-    pt_switch_surfaces(scene);
+    vbl_volume* volume;
+    vbl_scene* scene = focus_scene_lit(2.0, light_inside, 4.0, 1, 8, 8, &volume);
     double se_on[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
     check_agreement(scene, 1, 32, 0, K, se_on, se_off);
     vbl_scene_release(scene);
