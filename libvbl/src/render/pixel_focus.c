@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "scene/lights.h"
+
 /* Triangle k of the pixel square [x0, x0+1] x [y0, y0+1] seen from c: its edge as a foot point,
  * a unit direction along the edge, the perpendicular distance d and the offsets e0 < e1 of the
  * edge's ends from the foot. Edges: 0 y = y0, 1 x = x0 + 1, 2 y = y0 + 1, 3 x = x0. */
@@ -40,12 +42,9 @@ void vbl_pixel_foci_build(const vbl_scene* scene, int has_box, vbl_vec3 lo, vbl_
     if (!has_box) return;
     const vbl_camera* cam = &scene->camera;
     for (int i = 0; i < scene->light_count && out->count < VBL_PIXEL_FOCUS_MAX; ++i) {
-        const vbl_light* l = &scene->lights[i];
-        if (l->type != VBL_LIGHT_POINT && l->type != VBL_LIGHT_SPOT) continue;
-        const vbl_vec3 p = l->position;
-        if (!(p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)) continue;
+        if (!vbl_light_local_in_box(&scene->lights[i], lo, hi)) continue;
         double sx, sy;
-        if (!vbl_camera_raster(cam, p, &sx, &sy)) continue;
+        if (!vbl_camera_raster(cam, scene->lights[i].position, &sx, &sy)) continue;
         if (!(sx >= 0.0 && sx < cam->width && sy >= 0.0 && sy < cam->height)) continue;
         const int px = (int)sx, py = (int)sy;
         if (vbl_pixel_foci_find(out, px, py)) continue;

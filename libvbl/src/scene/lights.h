@@ -18,6 +18,15 @@ static inline int vbl_light_is_delta(const vbl_light* light)
     return light->type == VBL_LIGHT_POINT || light->type == VBL_LIGHT_SPOT || light->type == VBL_LIGHT_DISTANT;
 }
 
+/* 1 for a point or spot light whose position lies in the box [lo, hi] (a light inside the media:
+ * pixel_focus, pt.light_focus), where single scattering near it grows like 1/distance. */
+static inline int vbl_light_local_in_box(const vbl_light* light, vbl_vec3 lo, vbl_vec3 hi)
+{
+    if (light->type != VBL_LIGHT_POINT && light->type != VBL_LIGHT_SPOT) return 0;
+    const vbl_vec3 p = light->position;
+    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+}
+
 /* Spot falloff: 1 inside the inner cone, 0 outside the outer cone, smoothstep in cos between
  * (s = (cos - cos_outer) / (cos_inner - cos_outer), falloff = s^2 (3 - 2 s)). */
 double vbl_spot_falloff(const vbl_light* light, double cos_axis);

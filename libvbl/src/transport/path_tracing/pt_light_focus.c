@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "sampling/focus_cone.h"
+#include "scene/lights.h"
 #include "scene/scene.h"
 
 void vbl_pt_light_focus_init(const vbl_render_context* ctx, vbl_pt_light_focus* lf)
@@ -15,13 +16,8 @@ void vbl_pt_light_focus_init(const vbl_render_context* ctx, vbl_pt_light_focus* 
     const double c = ctx->options.pt.light_focus;
     vbl_vec3 lo, hi;
     if (!(c > 0.0) || !vbl_scene_media_box(scene, &lo, &hi)) return;
-    for (int i = 0; i < scene->light_count && lf->count < VBL_PT_LIGHT_FOCUS_MAX; ++i) {
-        const vbl_light* l = &scene->lights[i];
-        if (l->type != VBL_LIGHT_POINT && l->type != VBL_LIGHT_SPOT) continue;
-        const vbl_vec3 p = l->position;
-        if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)
-            lf->light[lf->count++] = p;
-    }
+    for (int i = 0; i < scene->light_count && lf->count < VBL_PT_LIGHT_FOCUS_MAX; ++i)
+        if (vbl_light_local_in_box(&scene->lights[i], lo, hi)) lf->light[lf->count++] = scene->lights[i].position;
     lf->radius = 0.5 * vbl_v3_length(vbl_v3_sub(hi, lo));
     if (lf->count > 0 && lf->radius > 0.0 && isfinite(lf->radius)) lf->fraction = c;
 }
