@@ -17,6 +17,7 @@
 #include "render/hybrid.h"
 #include "transport/path_tracing/pt.h"
 #include "transport/path_tracing/pt_guide.h"
+#include "transport/path_tracing/pt_light_focus.h"
 #include "render/pixel_focus.h"
 #include "transport/common/photon_trace.h"
 
@@ -279,6 +280,11 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     ctx.tracking.majorant_scale = options->transmittance_majorant_scale;
     ctx.threads = options->threads > 0 ? options->threads : omp_get_max_threads();
     if (ctx.threads < 1) ctx.threads = 1;
+    /* pt.light_focus: the point/spot lights inside the media, once per render and before the hybrid
+     * pilot and pt's pre-pass copy the context (pt_light_focus.h) */
+    vbl_pt_light_focus light_focus;
+    vbl_pt_light_focus_init(&ctx, &light_focus);
+    if (light_focus.fraction > 0.0) ctx.pt_light_focus = &light_focus;
     /* render.hybrid: pt takes some classes (render/hybrid.h); auto runs its pilot here, before any
      * pass, with seeds of its own, so every pass range of a split render makes the same plan */
     vbl_hybrid_plan hybrid_plan;

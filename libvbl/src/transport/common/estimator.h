@@ -53,6 +53,8 @@ typedef struct vbl_render_context {
                                      stop seen anywhere in a pass is seen by the driver too (NULL ok) */
     const struct vbl_pt_guide* pt_guide; /* pt.guided_rr: the radiance cache of the render's pre-pass
                                             (transport/path_tracing/pt_guide.h; NULL: plain RR) */
+    const struct vbl_pt_light_focus* pt_light_focus; /* pt.light_focus: the lights inside the media,
+                                            once per render (pt_light_focus.h; NULL: off) */
     unsigned skip_classes;        /* bit c (1u << vbl_transport_class): another estimator owns class c
                                      (render.hybrid, render/hybrid.h), so this one may skip work whose
                                      every class is skipped; what it adds there anyway the hybrid drops.

@@ -391,8 +391,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     vbl_render_context surface_first_ctx = *ctx;
     surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
     const vbl_pt_guide* guide = ctx->pt_guide;
-    vbl_pt_light_focus focus;
-    vbl_pt_light_focus_init(ctx, &focus);
+    const vbl_pt_light_focus* focus = ctx->pt_light_focus; /* pt.light_focus (NULL: off) */
     vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
     int branch_count = 0;
     vbl_rng branch_rng;
@@ -535,7 +534,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             double u_pick, u_t;
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
-            const vbl_pt_light_focus_vertex next_fv = vbl_pt_light_focus_at_event(&focus, next.events);
+            const vbl_pt_light_focus_vertex next_fv = vbl_pt_light_focus_at_event(focus, next.events);
             vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t,
                                    !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, rng,
                                    &out->L[vbl_pt_class(&next)]);
@@ -562,7 +561,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
              * every shadow ray: volume_direct) */
             const double shadow_rr = shadow_roulette && path.events >= 2 ? beta_first : 0.0;
             /* pt.light_focus: this vertex's directions (and every MIS weight using their density) */
-            const vbl_pt_light_focus_vertex fv = vbl_pt_light_focus_at_event(&focus, path.events);
+            const vbl_pt_light_focus_vertex fv = vbl_pt_light_focus_at_event(focus, path.events);
             vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, &fv, beta,
                                      rng, out);
             if (scene->has_emission && emission_nee)
@@ -585,9 +584,9 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_vec3 wo = vbl_v3_scale(direction, -1.0);
             int last = max_bounces >= 0 && path.events >= max_bounces;
             vbl_pt_next_event_surface(path.events == 1 ? &surface_first_ctx : nee_ctx, ts, &hit, wo, &path, &dims,
-                                      last, &focus, beta, rng, out);
+                                      last, focus, beta, rng, out);
             if (scene->has_emission && emission_nee)
-                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, vbl_pt_light_focus_surface_pdf_fn, &focus, beta, rng,
+                vbl_emission_nee_surface(ctx, ts, &hit, wo, last, vbl_pt_light_focus_surface_pdf_fn, focus, beta, rng,
                                          &out->L[vbl_pt_class(&path)]);
             if (last) break;
             /* continue by sampling the BRDF; reflection only (opaque surfaces) */
@@ -597,7 +596,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_u2(&dims, VBL_PT_PAIR_DIRECTION, path.events, rng, &u1, &u2);
             vbl_vec3 f;
             /* pt.light_focus: the BRDF's directions mixed with the lights' cones (pt_light_focus.h) */
-            if (!vbl_pt_light_focus_surface_sample(&focus, m, &hit, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
+            if (!vbl_pt_light_focus_surface_sample(focus, m, &hit, wo, u0, u1, u2, &wi, &pdf, &f) || !(pdf > 0.0)) break;
             double cos_i = vbl_v3_dot(wi, hit.shading_normal);
             if (!(cos_i > 0.0) || !(vbl_v3_dot(wi, hit.geometric_normal) > 0.0)) break;
             double s = cos_i / pdf;

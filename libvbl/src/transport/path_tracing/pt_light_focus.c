@@ -85,7 +85,7 @@ double vbl_pt_light_focus_surface_pdf(const vbl_pt_light_focus* lf, const vbl_ma
                                       vbl_vec3 wo, vbl_vec3 wi)
 {
     const double p = vbl_material_pdf(m, hit->shading_normal, wo, wi);
-    if (!(lf->fraction > 0.0)) return p;
+    if (!lf || !(lf->fraction > 0.0)) return p;
     vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
     const int n = vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, cones);
     return n > 0 ? lf->fraction * vbl_pt_focus_mean_pdf(n, cones, wi) + (1.0 - lf->fraction) * p : p;
@@ -101,7 +101,7 @@ int vbl_pt_light_focus_surface_sample(const vbl_pt_light_focus* lf, const vbl_ma
                                       const vbl_surface_hit* hit, vbl_vec3 wo, double u0, double u1, double u2,
                                       vbl_vec3* wi, double* pdf, vbl_vec3* f)
 {
-    const double c = lf->fraction;
+    const double c = lf ? lf->fraction : 0.0;
     vbl_pt_cone cones[VBL_PT_LIGHT_FOCUS_MAX];
     const int n = c > 0.0 ? vbl_pt_focus_cones(lf, hit->position, &hit->geometric_normal, cones) : 0;
     if (n == 0) return vbl_material_sample(m, hit->shading_normal, wo, u0, u1, u2, wi, pdf, f);

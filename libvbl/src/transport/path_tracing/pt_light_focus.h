@@ -43,7 +43,8 @@ typedef struct vbl_pt_light_focus {
     vbl_vec3 light[VBL_PT_LIGHT_FOCUS_MAX];
 } vbl_pt_light_focus;
 
-/* From options.pt.light_focus, the scene's media box (vbl_scene_media_box) and its lights. */
+/* From options.pt.light_focus, the scene's media box (vbl_scene_media_box) and its lights; once
+ * per render (render.c, vbl_render_context.pt_light_focus). The functions below take NULL as off. */
 void vbl_pt_light_focus_init(const vbl_render_context* ctx, vbl_pt_light_focus* lf);
 
 /* ---- surface vertices ---------------------------------------------------------------------- */
