@@ -215,9 +215,10 @@ typedef enum vbl_render_option_effect {
     X(, min_passes, min_passes, int, INT, "min_passes", "--min-passes", 0, 0, 1e9, 0, NULL, PASSES,         \
       "passes that complete even past time_limit (0: the limit holds for the first pass too)")          \
     X(, pixel_focus, pixel_focus, int, BOOL, "pixel_focus", "--pixel-focus", 1, 0, 1, 0, NULL, HASH,        \
-      "the pixel holding the image of a point or spot light inside the media draws half its positions with "   \
-      "density ~ 1/distance to the image, weighted by the mixture (single scattering there grows like "      \
-      "1/distance: infinite variance under uniform positions; unbiased)")                                     \
+      "the pixel holding the image of a point or spot light inside the media, and its neighbours within a "  \
+      "pixel of the image, draw half their positions with density ~ 1/distance to the image, weighted by "   \
+      "the mixture (single scattering there grows like 1/distance: infinite variance under uniform "         \
+      "positions in the image's pixel, large in its neighbours; unbiased)")                                 \
     X(, motion_blur, motion_blur, int, BOOL, "motion_blur", "--motion-blur", 1, 0, 1, 0, NULL, HASH,        \
       "velocity motion blur over camera.shutter for media with a velocity grid (pt; 0: the frame's instant)") \
     X(, hybrid, hybrid, vbl_hybrid_mode, ENUM, "hybrid", "--hybrid", VBL_HYBRID_AUTO, 0, 2, 0, "off|classes|auto", \

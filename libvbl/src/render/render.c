@@ -81,7 +81,7 @@ static void vbl_render_pixel(const vbl_render_context* ctx, const vbl_estimator*
         }
         cs.sx = px + u;
         cs.sy = py + v;
-        if (focus) weight = vbl_pixel_focus_sample(focus, vbl_rng_uniform(&rng), u, v, &cs.sx, &cs.sy);
+        if (focus) weight = vbl_pixel_focus_sample(focus, vbl_rng_uniform(&rng), u, v, &rng, &cs.sx, &cs.sy);
         if (ctx->scene->motion && ctx->options.motion_blur) {
             /* motion blur: the path's time, stratified over the pixel's spp samples of the pass */
             const vbl_scene* sc = ctx->scene;
