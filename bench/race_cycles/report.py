@@ -94,7 +94,7 @@ def table_layers(race):
 
 def table_checks(race):
     out = ["## Reference check: mean of the two Cycles renders over the pt reference's, per Cycles pass", "",
-           "Agreement: |ratio - 1| <= max(2%, 3 sigma), sigma from the two Cycles seeds and the two reference halves.", "",
+           "Agreement: |ratio - 1| <= max(2%, 3 sigma), sigma from the two Cycles seeds and the two reference halves (the larger of their totals' spread and their pixels').", "",
            "| scene | pass | Cycles / pt | sigma | agree |", "|---|---|---:|---:|---|"]
     for c in race.checks:
         out.append(f"| {c['scene']} | {c['layer']} | {c['cycles_over_pt']:.4f} | {c['sigma']:.4f} | "
