@@ -291,7 +291,12 @@ typedef enum vbl_render_option_effect {
       HASH,                                                                                                  \
       "pt.camera_split: up to N forced scattering points per camera sample, stratified over the walk's "  \
       "weights, each continued by its own path (one camera walk serves them); the extra N - 1 in "          \
-      "proportion to the medium's share W / (W + T behind) of what the camera sample sees")
+      "proportion to the medium's share W / (W + T behind) of what the camera sample sees")                \
+    X(pt., pt_sobol_shadow_march, sobol_shadow_march, int, BOOL, "pt.sobol_shadow_march",                     \
+      "--pt-sobol-shadow-march", 1, 0, 1, 0, NULL, HASH,                                                     \
+      "pt.sampler = sobol: the shadow rays of camera-visible surfaces, and the camera split's estimate of "  \
+      "the smoke in front of a surface, march their first block's strata from one Sobol number per camera " \
+      "sample instead of jittering each (a pixel's nearly equal rays stratify each other; unbiased)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

@@ -303,10 +303,12 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
     double len;
     if (!(t1 > t0) || !vbl_unit_ray(&direction, &t0, &t1, &len)) return 1.0;
     if (settings->unbiased_march) {
-        const vbl_unbiased_march_params p =
+        vbl_unbiased_march_params p =
             settings->unbiased_march >= 2
                 ? vbl_unbiased_march_adaptive(settings->majorant_scale, settings->unbiased_march == 3)
                 : vbl_unbiased_march_defaults(settings->majorant_scale);
+        p.has_first_offset = settings->has_march_offset;
+        p.first_offset = settings->march_offset;
         return vbl_transmittance_unbiased_march(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant,
                                                 &p, rng);
     }

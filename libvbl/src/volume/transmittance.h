@@ -28,6 +28,11 @@ typedef struct vbl_tracking_settings {
      * march density. 2: the adaptive march (vbl_unbiased_march_adaptive, pt.shadow_transmittance =
      * unbiased-march-adaptive), 3: the same at a deep path vertex. 0 (older initializers): off. */
     int unbiased_march;
+    /* has_march_offset 1: the unbiased march's first factor march places its strata systematically
+     * from march_offset in [0, 1) (vbl_unbiased_march_params.first_offset; pt.sobol_shadow_march).
+     * The other estimators ignore it. 0 (older initializers): off. */
+    int has_march_offset;
+    double march_offset;
 } vbl_tracking_settings;
 
 /* The next tentative collision of a Poisson process of piecewise-constant rate (rate mu on the

@@ -104,21 +104,26 @@ static double vbl_um_march(const vbl_extinction* ext, vbl_extinction_cursor* cur
  * rounding its count up (a thin block costs rate W lookups on average, a full one ceil(rate W)). */
 static double vbl_um_march_strata(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                                   vbl_vec3 direction, const vbl_um_piece* pc, int n, double W, double rate,
-                                  vbl_rng* rng)
+                                  double offset, vbl_rng* rng)
 {
     const double m = rate * W;
     int K = 1;
     double h = W; /* the stratum width in u */
     if (m < 1.0) {
-        if (!(vbl_rng_uniform(rng) < m)) return 0.0;
+        if (offset >= 0.0) { /* the point with probability m, uniform given it: offset / m */
+            if (!(offset < m)) return 0.0;
+            offset /= m;
+        } else if (!(vbl_rng_uniform(rng) < m)) {
+            return 0.0;
+        }
     } else {
         K = m < (double)pc[0].cap ? (int)ceil(m) : pc[0].cap;
         h = W / (double)K;
     }
     double s = 0.0, U = 0.0; /* U: u at the start of piece i */
     int i = 0;
-    for (int j = 0; j < K; ++j) {
-        const double u = ((double)j + vbl_rng_uniform(rng)) * h;
+    for (int j = 0; j < K; ++j) { /* offset >= 0: systematic strata (params.first_offset) */
+        const double u = ((double)j + (offset >= 0.0 ? offset : vbl_rng_uniform(rng))) * h;
         while (i + 1 < n && u >= U + pc[i].r * pc[i].len) {
             U += pc[i].r * pc[i].len;
             ++i;
@@ -130,11 +135,12 @@ static double vbl_um_march_strata(const vbl_extinction* ext, vbl_extinction_curs
     return m < 1.0 ? s / rate : h * s;
 }
 
+/* One marched estimate X of the block's residual; offset >= 0 (block strata only): systematic. */
 static double vbl_um_x(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                        vbl_vec3 direction, const vbl_um_piece* pc, int n, double bound, double rate, int strata,
-                       vbl_rng* rng)
+                       double offset, vbl_rng* rng)
 {
-    return strata ? vbl_um_march_strata(ext, cursor, origin, direction, pc, n, bound, rate, rng)
+    return strata ? vbl_um_march_strata(ext, cursor, origin, direction, pc, n, bound, rate, offset, rng)
                   : vbl_um_march(ext, cursor, origin, direction, pc, n, rate, rng);
 }
 
@@ -142,7 +148,7 @@ static double vbl_um_x(const vbl_extinction* ext, vbl_extinction_cursor* cursor,
  * (Kettunen et al. 2021, sec. 3 eq. for the power series around tau_c; sec. 4 the random order). */
 static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                            vbl_vec3 direction, const vbl_um_piece* pc, int n, double exact, double bound,
-                           const vbl_unbiased_march_params* p, vbl_rng* rng)
+                           const vbl_unbiased_march_params* p, double offset, vbl_rng* rng)
 {
     const double rate = p->rate > 0.0 ? p->rate : VBL_UNBIASED_MARCH_RATE;
     const double pilot_rate = p->pilot_rate > 0.0 ? p->pilot_rate : VBL_UNBIASED_MARCH_RATE;
@@ -153,13 +159,13 @@ static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cur
      * the series unbiased; |tau - tau_c| <= bound, so the series' roulette terms stay O(bound^3)) */
     double rc = 0.0;
     if (!(bound < p->pilot_min_bound)) {
-        rc = vbl_um_x(ext, cursor, origin, direction, pc, n, bound, pilot_rate, strata, rng);
+        rc = vbl_um_x(ext, cursor, origin, direction, pc, n, bound, pilot_rate, strata, -1.0, rng);
         if (rc < -bound) rc = -bound;
         if (rc > bound) rc = bound;
     }
     const double tc = exp(-(exact - bound)) * exp(-(rc + bound)); /* both factors <= 1 */
     if (!(tc > 0.0)) return 0.0;                                  /* below double precision */
-    double d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, rng); /* D_1 */
+    double d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, offset, rng); /* D_1 */
     double term = d; /* prod D_j / (k! P(N >= k)) at k = 1 */
     double sum = 1.0 + term;
     for (int k = 1; d != 0.0; ++k) {
@@ -173,7 +179,7 @@ static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cur
         } else {
             w = term;
         }
-        d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, rng);
+        d = rc - vbl_um_x(ext, cursor, origin, direction, pc, n, bound, rate, strata, -1.0, rng);
         term = w * d / (double)(k + 1);
         sum += term;
     }
@@ -184,7 +190,7 @@ vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 {
     const double k = scale > 1.0 ? scale : 1.0;
     vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k, VBL_UNBIASED_MARCH_RATE * k,
-                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0, 0.0};
+                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0, 0.0, 0, 0.0};
     return p;
 }
 
@@ -235,6 +241,11 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
     vbl_um_piece pc[VBL_UM_BLOCK_PIECES];
     int n = 0;
     double exact = 0.0, bound = 0.0, W = 1.0;
+    /* params->first_offset: the first block's D_1 only (the blocks' factors stay independent of
+     * each other, which the product needs) */
+    double offset = params->has_first_offset && params->first_offset >= 0.0 && params->first_offset < 1.0
+                        ? params->first_offset
+                        : -1.0;
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global_majorant);
@@ -251,7 +262,9 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
          * (the work per segment stays at most max_points per march, as without blocks) */
         if (r * len > (double)wide * B) {
             if (n > 0) {
-                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+                const double f =
+                    vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
+                offset = -1.0;
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
@@ -259,7 +272,9 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             const double l = len / (double)wide;
             for (int i = 0; i < wide; ++i) {
                 const vbl_um_piece one = {seg.t0 + (double)i * l, l, c, r, wide_cap};
-                const double f = vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, rng);
+                const double f =
+                    vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, offset, rng);
+                offset = -1.0;
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
             }
             continue;
@@ -276,7 +291,9 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             t += l;
             left = fills ? left - l : 0.0;
             if (fills || n == VBL_UM_BLOCK_PIECES) {
-                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+                const double f =
+                    vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
+                offset = -1.0;
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
@@ -284,7 +301,7 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
         }
     }
     if (n > 0) {
-        const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, rng);
+        const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
         if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
     }
     return W;

@@ -40,6 +40,15 @@ typedef struct vbl_unbiased_march_params {
     /* (0, 1]: Russian roulette on the running estimate W once |W| falls below this (survive with
      * |W| / rr_threshold, carry W = +-rr_threshold); 0 (older initializers): VBL_UNBIASED_MARCH_RR */
     double rr_threshold;
+    /* has_first_offset 1: the first factor march of the ray's first block (D_1, the term that
+     * carries the estimate's noise to first order) places its block strata systematically at
+     * (j + first_offset) h instead of one jittered number per stratum (block_strata marches only;
+     * the sparse case m < 1 keeps its point where first_offset < m, at first_offset / m). With
+     * first_offset uniform in [0, 1) the estimate stays unbiased; drawn from a low-discrepancy
+     * sequence over a pixel's samples (pt.sobol_shadow_march), the nearly equal shadow rays of one
+     * pixel stratify each other's march. 0 (older initializers): jittered. */
+    int has_first_offset;
+    double first_offset;
 } vbl_unbiased_march_params;
 
 /* The defaults (rate = pilot_rate = VBL_UNBIASED_MARCH_RATE x `scale` for scale > 1, else x 1). */

@@ -58,7 +58,9 @@ enum {
     VBL_PT_PAIR_EQUIANGULAR = 2, /* the equiangular NEE's light pick and distance */
     VBL_PT_PAIR_DIRECTION = 3,   /* the phase/BRDF direction */
     VBL_PT_PAIR_FREE_FLIGHT = 4, /* the segment's first optical depth and first real/null decision */
-    VBL_PT_PAIR_EVENT = 5        /* the lobe/BRDF-component choice and the Russian roulette */
+    VBL_PT_PAIR_EVENT = 5,       /* the lobe/BRDF-component choice and the Russian roulette */
+    VBL_PT_PAIR_SHADOW_MARCH = 6 /* pt.sobol_shadow_march: the camera-visible surface's shadow march
+                                  * offset, and the camera split's march of the smoke in front of it */
 };
 
 /* Two numbers of `pair` at scattering event `bounce` (0: the camera segment). */
@@ -390,6 +392,23 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
      * docs/readme/sampling.md) */
     vbl_render_context surface_first_ctx = *ctx;
     surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
+    /* pt.sobol_shadow_march: those shadow rays, and the camera split's march of the smoke in front
+     * of the surface (split_march, below), place their first block's march strata systematically
+     * at one Sobol number of the camera sample (vbl_unbiased_march_params.first_offset). Each
+     * estimate stays unbiased (the number is uniform and independent of the stream); over a
+     * pixel's samples, whose rays to a light nearly coincide, the numbers are stratified, so the
+     * samples' marches interleave instead of falling independently: surface_direct's noise there
+     * is mostly those marches' (docs/readme/sampling.md "Shadow-ray transmittance"). */
+    vbl_tracking_settings behind_tracking = surface_first_ctx.tracking; /* split_march's estimate */
+    if (dims.sobol && ctx->options.pt.sobol_shadow_march && ctx->extinction->count > 0 &&
+        (scene->has_surfaces || split_env)) {
+        double u_surface, u_behind;
+        vbl_pt_u2(&dims, VBL_PT_PAIR_SHADOW_MARCH, 1, rng, &u_surface, &u_behind);
+        surface_first_ctx.tracking.has_march_offset = 1;
+        surface_first_ctx.tracking.march_offset = u_surface;
+        behind_tracking.has_march_offset = 1;
+        behind_tracking.march_offset = u_behind;
+    }
     const vbl_pt_guide* guide = ctx->pt_guide;
     const vbl_pt_light_focus* focus = ctx->pt_light_focus; /* pt.light_focus (NULL: off) */
     vbl_pt_branch branches[VBL_PT_SPLIT_STACK];
@@ -461,8 +480,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             out->aovs.depth_hit = walk.t_first >= 0.0 || on_surface;
             out->aovs.depth = walk.t_first >= 0.0 ? walk.t_first : t_surface;
             if (split_march && (on_surface || split_env)) /* the part behind: see split_march */
-                walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface,
-                                                         &surface_first_ctx.tracking, rng);
+                walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface, &behind_tracking, rng);
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
             segment_estimators = 2;
             collided = 0;
