@@ -93,7 +93,7 @@ static double run_estimator(const vbl_extinction* ext, const bench_ray* rays, in
     {
         vbl_extinction_cursor cur;
         vbl_extinction_cursor_init(&cur, ext);
-        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0, g_residual_mid, 0, 0, 0.0};
+        vbl_tracking_settings set = {est, 0.0, use_global, g_majorant_scale, 0.0, g_residual_mid, 0, 0, {0.0, 0.0}};
 #pragma omp for schedule(dynamic, 4)
         for (int r = 0; r < nrays; ++r) {
             double s = 0.0, s2 = 0.0;

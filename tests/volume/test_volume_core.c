@@ -415,7 +415,7 @@ static void test_parity_global_majorant(void** state)
         const int n = 8000;
         for (int g = 0; g < 2; ++g) {
             uint64_t before = vbl_extinction_cursor_lookups(&cur);
-            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, g, 1.0, 0.0, 0, 0, 0, 0.0};
+            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, g, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
             for (int i = 0; i < n; ++i) {
                 vbl_rng rng = vbl_rng_make(11, (uint64_t)(e * 2 + g), (uint64_t)i);
                 double x = vbl_transmittance_estimate(&ext, &cur, o, d, 0.0, 5.0, &set, &rng);
@@ -456,7 +456,7 @@ static void test_majorant_scale(void** state)
         const int n = 20000;
         for (int k = 0; k < 2; ++k) {
             uint64_t before = vbl_extinction_cursor_lookups(&cur);
-            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, scales[k], 0.0, 0, 0, 0, 0.0};
+            vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, scales[k], 0.0, 0, 0, 0, {0.0, 0.0}};
             double s = 0.0, s2 = 0.0;
             for (int i = 0; i < n; ++i) {
                 vbl_rng rng = vbl_rng_make(23, (uint64_t)(e * 2 + k), (uint64_t)i);
@@ -516,7 +516,7 @@ static void test_multi_component(void** state)
     for (int e = 0; e <= VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING; ++e) {
         double sum = 0, sum2 = 0;
         const int n = 8000;
-        vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, 1.0, 0.0, 0, 0, 0, 0.0};
+        vbl_tracking_settings set = {(vbl_transmittance_estimator)e, 0.0, 0, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
         for (int i = 0; i < n; ++i) {
             vbl_rng rng = vbl_rng_make(12, (uint64_t)e, (uint64_t)i);
             double x = vbl_transmittance_estimate(&ext, &cur, o, d, 0.0, 40.0, &set, &rng);

@@ -158,7 +158,7 @@ static void check_medium(const medium_case* mc, int want_homogeneous)
         const vbl_transmittance_estimator est = e == 0   ? VBL_TRANSMITTANCE_DELTA_TRACKING
                                                 : e == 1 ? VBL_TRANSMITTANCE_RATIO_TRACKING
                                                          : VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING;
-        vbl_tracking_settings set = {est, 0.0, 0, 1.0, 0.0, e == 3, 0, 0, 0.0};
+        vbl_tracking_settings set = {est, 0.0, 0, 1.0, 0.0, e == 3, 0, 0, {0.0, 0.0}};
         const int n = e == 0 ? 400000 : 100000;
         double s = 0.0, s2 = 0.0;
         for (int i = 0; i < n; ++i) {

@@ -79,7 +79,7 @@ static void test_interior_exact(void** state)
                                                   VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING,
                                                   VBL_TRANSMITTANCE_RAY_MARCHING};
     for (int k = 0; k < 4; ++k) {
-        vbl_tracking_settings st = {kinds[k], 0.0, 0, 1.0, 0.0, 0, 0, 0, 0.0};
+        vbl_tracking_settings st = {kinds[k], 0.0, 0, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
         for (int i = 0; i < 50; ++i) {
             vbl_rng rng = vbl_rng_make(7, 0, (uint64_t)i);
             uint64_t before = vbl_extinction_cursor_lookups(&f.cur);
@@ -144,7 +144,7 @@ static void test_whole_box(void** state)
     for (int e = 0; e < 3; ++e)
         for (int k = 0; k < 3; ++k) {
             double truth = exp(-scale * c * (profile_integral(t1s[k] - 3.0) - profile_integral(-3.0)));
-            vbl_tracking_settings st = {kinds[e], 0.0, 0, 1.0, 0.0, 0, 0, 0, 0.0};
+            vbl_tracking_settings st = {kinds[e], 0.0, 0, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
             double s = 0.0, s2 = 0.0, sb = 0.0, sb2 = 0.0;
             uint64_t la = vbl_extinction_cursor_lookups(&a.cur), lb = vbl_extinction_cursor_lookups(&b.cur);
             for (int i = 0; i < n; ++i) {
@@ -202,7 +202,7 @@ static void test_two_media_and_determinism(void** state)
     make(&f, fn_const, 1.0, 0.1);
     assert_int_equal(vbl_extinction_add(&f.ext, f.vol, 0.3, NULL), VBL_SUCCESS);
     vbl_extinction_cursor_init(&f.cur, &f.ext);
-    vbl_tracking_settings st = {VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, 0, 1.0, 0.0, 0, 0, 0, 0.0};
+    vbl_tracking_settings st = {VBL_TRANSMITTANCE_RATIO_TRACKING, 0.0, 0, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
     vbl_rng rng = vbl_rng_make(1, 2, 3);
     double T = vbl_transmittance_estimate(&f.ext, &f.cur, RAY_O, RAY_D, 12.0, 16.0, &st, &rng);
     assert_true(fabs(T - exp(-0.4 * 4.0)) < 1e-12); /* above the Russian-roulette threshold 0.1 */

@@ -32,7 +32,7 @@ static stats estimate(const vbl_extinction* ext, vbl_vec3 o, vbl_vec3 d, double 
 {
     vbl_extinction_cursor cur;
     vbl_extinction_cursor_init(&cur, ext);
-    vbl_tracking_settings set = {VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, 0, k, 0.0, mid, 0, 0, 0.0};
+    vbl_tracking_settings set = {VBL_TRANSMITTANCE_RESIDUAL_RATIO_TRACKING, 0.0, 0, k, 0.0, mid, 0, 0, {0.0, 0.0}};
     double s = 0.0, s2 = 0.0;
     for (int i = 0; i < n; ++i) {
         vbl_rng rng = vbl_rng_make(seed, (uint64_t)i, 14);

@@ -295,8 +295,8 @@ typedef enum vbl_render_option_effect {
     X(pt., pt_sobol_shadow_march, sobol_shadow_march, int, BOOL, "pt.sobol_shadow_march",                     \
       "--pt-sobol-shadow-march", 1, 0, 1, 0, NULL, HASH,                                                     \
       "pt.sampler = sobol: the shadow rays of camera-visible surfaces, and the camera split's estimate of "  \
-      "the smoke in front of a surface, march their first block's strata from one Sobol number per camera " \
-      "sample instead of jittering each (a pixel's nearly equal rays stratify each other; unbiased)")
+      "the smoke in front of a surface, march their first two blocks' strata from Sobol numbers of the "   \
+      "camera sample instead of jittering each (a pixel's nearly equal rays stratify each other; unbiased)")
 
 /* vpl: options.vpl */
 #define VBL_RENDER_OPTIONS_VPL(X, F)                                                                         \

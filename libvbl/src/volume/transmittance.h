@@ -9,6 +9,9 @@
 #include "core/rng.h"
 #include "volume/extinction.h"
 
+/* Blocks of one shadow ray that may take a given march offset (vbl_tracking_settings). */
+#define VBL_TRACKING_MARCH_OFFSETS 2
+
 typedef struct vbl_tracking_settings {
     vbl_transmittance_estimator estimator;
     double march_step;        /* ray marching step (world units); <= 0: adaptive */
@@ -28,11 +31,12 @@ typedef struct vbl_tracking_settings {
      * march density. 2: the adaptive march (vbl_unbiased_march_adaptive, pt.shadow_transmittance =
      * unbiased-march-adaptive), 3: the same at a deep path vertex. 0 (older initializers): off. */
     int unbiased_march;
-    /* has_march_offset 1: the unbiased march's first factor march places its strata systematically
-     * from march_offset in [0, 1) (vbl_unbiased_march_params.first_offset; pt.sobol_shadow_march).
-     * The other estimators ignore it. 0 (older initializers): off. */
-    int has_march_offset;
-    double march_offset;
+    /* march_offsets > 0: the unbiased march's first factor march in each of the ray's first
+     * march_offsets blocks places its strata systematically from march_offset[b] in [0, 1)
+     * (vbl_unbiased_march_params.offsets; pt.sobol_shadow_march). The other estimators ignore
+     * them. 0 (older initializers): off. */
+    int march_offsets;
+    double march_offset[VBL_TRACKING_MARCH_OFFSETS];
 } vbl_tracking_settings;
 
 /* The next tentative collision of a Poisson process of piecewise-constant rate (rate mu on the

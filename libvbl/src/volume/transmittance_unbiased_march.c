@@ -122,7 +122,7 @@ static double vbl_um_march_strata(const vbl_extinction* ext, vbl_extinction_curs
     }
     double s = 0.0, U = 0.0; /* U: u at the start of piece i */
     int i = 0;
-    for (int j = 0; j < K; ++j) { /* offset >= 0: systematic strata (params.first_offset) */
+    for (int j = 0; j < K; ++j) { /* offset >= 0: systematic strata (params.offsets) */
         const double u = ((double)j + (offset >= 0.0 ? offset : vbl_rng_uniform(rng))) * h;
         while (i + 1 < n && u >= U + pc[i].r * pc[i].len) {
             U += pc[i].r * pc[i].len;
@@ -189,8 +189,16 @@ static double vbl_um_block(const vbl_extinction* ext, vbl_extinction_cursor* cur
 vbl_unbiased_march_params vbl_unbiased_march_defaults(double scale)
 {
     const double k = scale > 1.0 ? scale : 1.0;
-    vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k, VBL_UNBIASED_MARCH_RATE * k,
-                                   VBL_UNBIASED_MARCH_MAX_POINTS, 1.0, VBL_UNBIASED_MARCH_BLOCK_DEPTH, 0.0, 0, 0.0, 0, 0.0};
+    vbl_unbiased_march_params p = {VBL_UNBIASED_MARCH_RATE * k,
+                                   VBL_UNBIASED_MARCH_RATE * k,
+                                   VBL_UNBIASED_MARCH_MAX_POINTS,
+                                   1.0,
+                                   VBL_UNBIASED_MARCH_BLOCK_DEPTH,
+                                   0.0,
+                                   0,
+                                   0.0,
+                                   0,
+                                   {0.0, 0.0}};
     return p;
 }
 
@@ -225,6 +233,13 @@ static int vbl_um_times(double* W, double f, double rr, vbl_rng* rng)
     return 1;
 }
 
+/* Block b's systematic offset for its D_1 (params.offsets), or -1: jittered. */
+static double vbl_um_offset(const vbl_unbiased_march_params* p, int b)
+{
+    if (b >= p->offset_count || b >= VBL_UNBIASED_MARCH_OFFSETS) return -1.0;
+    return p->offsets[b] >= 0.0 && p->offsets[b] < 1.0 ? p->offsets[b] : -1.0;
+}
+
 double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinction_cursor* cursor, vbl_vec3 origin,
                                         vbl_vec3 direction, double t0, double t1, int use_global_majorant,
                                         const vbl_unbiased_march_params* params, vbl_rng* rng)
@@ -241,11 +256,9 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
     vbl_um_piece pc[VBL_UM_BLOCK_PIECES];
     int n = 0;
     double exact = 0.0, bound = 0.0, W = 1.0;
-    /* params->first_offset: the first block's D_1 only (the blocks' factors stay independent of
-     * each other, which the product needs) */
-    double offset = params->has_first_offset && params->first_offset >= 0.0 && params->first_offset < 1.0
-                        ? params->first_offset
-                        : -1.0;
+    /* params->offsets: block b < offset_count takes offsets[b] for its D_1 (independent numbers
+     * per block: the blocks' factors stay independent, which the product needs) */
+    int block = 0;
     vbl_extinction_iter iter;
     vbl_majorant_segment seg;
     vbl_extinction_iter_init(&iter, ext, origin, direction, t0, t1, use_global_majorant);
@@ -262,9 +275,8 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
          * (the work per segment stays at most max_points per march, as without blocks) */
         if (r * len > (double)wide * B) {
             if (n > 0) {
-                const double f =
-                    vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
-                offset = -1.0;
+                const double off = vbl_um_offset(params, block++);
+                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, off, rng);
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
@@ -272,9 +284,8 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             const double l = len / (double)wide;
             for (int i = 0; i < wide; ++i) {
                 const vbl_um_piece one = {seg.t0 + (double)i * l, l, c, r, wide_cap};
-                const double f =
-                    vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, offset, rng);
-                offset = -1.0;
+                const double off = vbl_um_offset(params, block++);
+                const double f = vbl_um_block(ext, cursor, origin, direction, &one, 1, c * l, r * l, params, off, rng);
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
             }
             continue;
@@ -291,9 +302,8 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
             t += l;
             left = fills ? left - l : 0.0;
             if (fills || n == VBL_UM_BLOCK_PIECES) {
-                const double f =
-                    vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
-                offset = -1.0;
+                const double off = vbl_um_offset(params, block++);
+                const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, off, rng);
                 if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
                 n = 0;
                 exact = bound = 0.0;
@@ -301,8 +311,10 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
         }
     }
     if (n > 0) {
-        const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, offset, rng);
+        const double off = vbl_um_offset(params, block);
+        const double f = vbl_um_block(ext, cursor, origin, direction, pc, n, exact, bound, params, off, rng);
         if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
     }
     return W;
+
 }

@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "volume/extinction.h"
+#include "volume/transmittance.h"
 
 /* Points per unit of a segment's residual optical depth (majorant - minorant) / 2 x length: the
  * march's density (default of vbl_unbiased_march_params.rate; measured in
@@ -23,6 +24,9 @@
 /* The running estimate's roulette threshold (params.rr_threshold = 0): low, so that a camera
  * vertex's light through a thick medium keeps its precision. */
 #define VBL_UNBIASED_MARCH_RR 1e-4
+
+/* Most blocks of one ray whose first factor march takes a given offset (params.offsets). */
+#define VBL_UNBIASED_MARCH_OFFSETS VBL_TRACKING_MARCH_OFFSETS
 
 typedef struct vbl_unbiased_march_params {
     double rate;       /* > 0: points per unit residual optical depth of the factors' marches */
@@ -40,15 +44,16 @@ typedef struct vbl_unbiased_march_params {
     /* (0, 1]: Russian roulette on the running estimate W once |W| falls below this (survive with
      * |W| / rr_threshold, carry W = +-rr_threshold); 0 (older initializers): VBL_UNBIASED_MARCH_RR */
     double rr_threshold;
-    /* has_first_offset 1: the first factor march of the ray's first block (D_1, the term that
-     * carries the estimate's noise to first order) places its block strata systematically at
-     * (j + first_offset) h instead of one jittered number per stratum (block_strata marches only;
-     * the sparse case m < 1 keeps its point where first_offset < m, at first_offset / m). With
-     * first_offset uniform in [0, 1) the estimate stays unbiased; drawn from a low-discrepancy
-     * sequence over a pixel's samples (pt.sobol_shadow_march), the nearly equal shadow rays of one
-     * pixel stratify each other's march. 0 (older initializers): jittered. */
-    int has_first_offset;
-    double first_offset;
+    /* offset_count > 0: the first factor march (D_1, the term that carries the estimate's noise
+     * to first order) of the ray's first offset_count blocks places its block strata
+     * systematically at (j + offsets[b]) h for block b instead of one jittered number per stratum
+     * (block_strata marches only; the sparse case m < 1 keeps its point where offsets[b] < m, at
+     * offsets[b] / m). With the offsets independent and uniform in [0, 1) the estimate stays
+     * unbiased (the blocks' factors stay independent, as their product needs); drawn from a
+     * low-discrepancy sequence over a pixel's samples (pt.sobol_shadow_march), the nearly equal
+     * shadow rays of one pixel stratify each other's marches. 0 (older initializers): jittered. */
+    int offset_count;
+    double offsets[VBL_UNBIASED_MARCH_OFFSETS];
 } vbl_unbiased_march_params;
 
 /* The defaults (rate = pilot_rate = VBL_UNBIASED_MARCH_RATE x `scale` for scale > 1, else x 1). */

@@ -82,7 +82,7 @@ VBL_API vbl_result vbl_volume_transmittance(const vbl_volume* volume, const doub
     vbl_extinction_init(&ext);
     vbl_result r = vbl_extinction_add(&ext, volume, opt.density_scale, NULL);
     if (r != VBL_SUCCESS) return r;
-    vbl_tracking_settings settings = {opt.estimator, opt.march_step, 0, 1.0, 0.0, 0, 0, 0, 0.0};
+    vbl_tracking_settings settings = {opt.estimator, opt.march_step, 0, 1.0, 0.0, 0, 0, 0, {0.0, 0.0}};
     const vbl_vec3 o = vbl_v3(origin[0], origin[1], origin[2]);
     const vbl_vec3 d = vbl_v3(direction[0], direction[1], direction[2]);
 

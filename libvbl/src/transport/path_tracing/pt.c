@@ -59,8 +59,8 @@ enum {
     VBL_PT_PAIR_DIRECTION = 3,   /* the phase/BRDF direction */
     VBL_PT_PAIR_FREE_FLIGHT = 4, /* the segment's first optical depth and first real/null decision */
     VBL_PT_PAIR_EVENT = 5,       /* the lobe/BRDF-component choice and the Russian roulette */
-    VBL_PT_PAIR_SHADOW_MARCH = 6 /* pt.sobol_shadow_march: the camera-visible surface's shadow march
-                                  * offset, and the camera split's march of the smoke in front of it */
+    VBL_PT_PAIR_SHADOW_MARCH = 6, /* pt.sobol_shadow_march: the camera-visible surface's shadow march */
+    VBL_PT_PAIR_SHADOW_MARCH_BEHIND = 7 /* ... and the camera split's march of the smoke in front of it */
 };
 
 /* Two numbers of `pair` at scattering event `bounce` (0: the camera segment). */
@@ -393,21 +393,21 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     vbl_render_context surface_first_ctx = *ctx;
     surface_first_ctx.tracking.majorant_scale *= ctx->options.pt.surface_direct_rate;
     /* pt.sobol_shadow_march: those shadow rays, and the camera split's march of the smoke in front
-     * of the surface (split_march, below), place their first block's march strata systematically
-     * at one Sobol number of the camera sample (vbl_unbiased_march_params.first_offset). Each
-     * estimate stays unbiased (the number is uniform and independent of the stream); over a
-     * pixel's samples, whose rays to a light nearly coincide, the numbers are stratified, so the
-     * samples' marches interleave instead of falling independently: surface_direct's noise there
-     * is mostly those marches' (docs/readme/sampling.md "Shadow-ray transmittance"). */
+     * of the surface (split_march, below), place the first factor march of each of their first two
+     * blocks systematically at a Sobol number of the camera sample
+     * (vbl_unbiased_march_params.offsets; one pair per ray: its two numbers are independent and
+     * uniform, as the blocks' product needs). Each estimate stays unbiased; over a pixel's
+     * samples, whose rays to a light nearly coincide, the numbers are stratified, so the samples'
+     * marches interleave instead of falling independently: surface_direct's noise there is mostly
+     * those marches' (docs/readme/sampling.md). */
     vbl_tracking_settings behind_tracking = surface_first_ctx.tracking; /* split_march's estimate */
     if (dims.sobol && ctx->options.pt.sobol_shadow_march && ctx->extinction->count > 0 &&
         (scene->has_surfaces || split_env)) {
-        double u_surface, u_behind;
-        vbl_pt_u2(&dims, VBL_PT_PAIR_SHADOW_MARCH, 1, rng, &u_surface, &u_behind);
-        surface_first_ctx.tracking.has_march_offset = 1;
-        surface_first_ctx.tracking.march_offset = u_surface;
-        behind_tracking.has_march_offset = 1;
-        behind_tracking.march_offset = u_behind;
+        vbl_pt_u2(&dims, VBL_PT_PAIR_SHADOW_MARCH, 1, rng, &surface_first_ctx.tracking.march_offset[0],
+                  &surface_first_ctx.tracking.march_offset[1]);
+        vbl_pt_u2(&dims, VBL_PT_PAIR_SHADOW_MARCH_BEHIND, 1, rng, &behind_tracking.march_offset[0],
+                  &behind_tracking.march_offset[1]);
+        surface_first_ctx.tracking.march_offsets = behind_tracking.march_offsets = 2;
     }
     const vbl_pt_guide* guide = ctx->pt_guide;
     const vbl_pt_light_focus* focus = ctx->pt_light_focus; /* pt.light_focus (NULL: off) */
