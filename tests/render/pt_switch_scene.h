@@ -54,4 +54,22 @@ static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, in
     return scene;
 }
 
+/* A Lambert floor (z = -1, edges 2 floor_half, albedo floor_albedo) under the sphere
+ * tt_make_sphere(16, 0.9) (density_scale, albedo, HG g), lit by one point light of intensity 3 at
+ * `light`, seen through `cam`: the floor's shadow rays cross the smoke (test_render_pt_core's
+ * pt.surface_direct_rate, test_render_pt_camera_split's pt.sobol_shadow_march). The volume goes to
+ * *volume (vt_free it after the scene). */
+static inline vbl_scene* pt_floor_under_smoke(vbl_camera cam, double density_scale, vbl_vec3 albedo, double g,
+                                              vbl_vec3 light, vbl_vec3 floor_albedo, double floor_half,
+                                              vbl_volume** volume)
+{
+    vbl_scene* scene = tt_scene(&cam);
+    *volume = tt_make_sphere(16, 0.9);
+    assert_int_equal(vbl_scene_add_medium(scene, *volume, density_scale, albedo, g, NULL), VBL_SUCCESS);
+    tt_add_point(scene, light, 3.0);
+    vbl_material lam = {VBL_MATERIAL_LAMBERT, {floor_albedo.x, floor_albedo.y, floor_albedo.z}, {0, 0, 0}, 0.0, 0.0};
+    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(floor_half, 0, 0), vbl_v3(0, floor_half, 0), &lam);
+    return scene;
+}
+
 #endif

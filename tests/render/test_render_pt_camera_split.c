@@ -240,13 +240,10 @@ static double pixel_variance_sum(const vbl_scene* scene, const split_config* cfg
 static void test_sobol_shadow_march(void** state)
 {
     (void)state;
-    vbl_camera cam = rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.6), 40.0, 12, 10);
-    vbl_scene* scene = tt_scene(&cam);
-    vbl_volume* volume = tt_make_sphere(16, 0.9);
-    assert_int_equal(vbl_scene_add_medium(scene, volume, 1.0, vbl_v3(0.9, 0.8, 0.7), 0.3, NULL), VBL_SUCCESS);
-    tt_add_point(scene, vbl_v3(0.1, 0.2, 1.6), 3.0);
-    vbl_material lam = {VBL_MATERIAL_LAMBERT, {0.7, 0.6, 0.5}, {0, 0, 0}, 0.0, 0.0};
-    add_quad(scene, vbl_v3(0, 0, -1), vbl_v3(2.5, 0, 0), vbl_v3(0, 2.5, 0), &lam);
+    vbl_volume* volume;
+    vbl_scene* scene = pt_floor_under_smoke(rt_camera(vbl_v3(0.3, -4.0, 0.6), vbl_v3(0, 0, -0.6), 40.0, 12, 10), 1.0,
+                                            vbl_v3(0.9, 0.8, 0.7), 0.3, vbl_v3(0.1, 0.2, 1.6),
+                                            vbl_v3(0.7, 0.6, 0.5), 2.5, &volume);
     const split_config on = {.split = 1, .passes = 2, .spp = 4},
                        off = {.split = 1, .passes = 2, .spp = 4, .no_sobol_march = 1};
     check_threads_and_active(scene, on, off);
