@@ -24,8 +24,7 @@ static void vbl_focus_edge(const vbl_pixel_focus* f, int k, double* fx, double* 
 int vbl_pixel_focus_make(int px, int py, double cx, double cy, vbl_pixel_focus* f)
 {
     memset(f, 0, sizeof *f);
-    if (!(fabs(cx - (px + 0.5)) <= 1.5 + VBL_PIXEL_FOCUS_REACH && fabs(cy - (py + 0.5)) <= 1.5 + VBL_PIXEL_FOCUS_REACH))
-        return 0; /* far, or NaN (which fmax below would drop) */
+    if (!isfinite(cx) || !isfinite(cy)) return 0; /* fmax below would drop a NaN */
     /* the image within the pixel or VBL_PIXEL_FOCUS_REACH of its square */
     const double gx = fmax(0.0, fmax(px - cx, cx - (px + 1.0))), gy = fmax(0.0, fmax(py - cy, cy - (py + 1.0)));
     if (!(hypot(gx, gy) <= VBL_PIXEL_FOCUS_REACH)) return 0;

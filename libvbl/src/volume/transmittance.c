@@ -308,7 +308,7 @@ double vbl_transmittance_estimate(const vbl_extinction* ext, vbl_extinction_curs
                 ? vbl_unbiased_march_adaptive(settings->majorant_scale, settings->unbiased_march == 3)
                 : vbl_unbiased_march_defaults(settings->majorant_scale);
         p.offset_count = settings->march_offsets;
-        for (int b = 0; b < VBL_TRACKING_MARCH_OFFSETS; ++b) p.offsets[b] = settings->march_offset[b];
+        for (int b = 0; b < VBL_UNBIASED_MARCH_OFFSETS; ++b) p.offsets[b] = settings->march_offset[b];
         return vbl_transmittance_unbiased_march(ext, cursor, origin, direction, t0, t1, settings->use_global_majorant,
                                                 &p, rng);
     }

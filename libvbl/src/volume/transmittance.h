@@ -8,9 +8,7 @@
 
 #include "core/rng.h"
 #include "volume/extinction.h"
-
-/* Blocks of one shadow ray that may take a given march offset (vbl_tracking_settings). */
-#define VBL_TRACKING_MARCH_OFFSETS 2
+#include "volume/transmittance_unbiased_march.h"
 
 typedef struct vbl_tracking_settings {
     vbl_transmittance_estimator estimator;
@@ -36,7 +34,7 @@ typedef struct vbl_tracking_settings {
      * (vbl_unbiased_march_params.offsets; pt.sobol_shadow_march). The other estimators ignore
      * them. 0 (older initializers): off. */
     int march_offsets;
-    double march_offset[VBL_TRACKING_MARCH_OFFSETS];
+    double march_offset[VBL_UNBIASED_MARCH_OFFSETS];
 } vbl_tracking_settings;
 
 /* The next tentative collision of a Poisson process of piecewise-constant rate (rate mu on the

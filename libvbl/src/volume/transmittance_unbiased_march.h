@@ -9,7 +9,6 @@
 
 #include "core/rng.h"
 #include "volume/extinction.h"
-#include "volume/transmittance.h"
 
 /* Points per unit of a segment's residual optical depth (majorant - minorant) / 2 x length: the
  * march's density (default of vbl_unbiased_march_params.rate; measured in
@@ -26,7 +25,7 @@
 #define VBL_UNBIASED_MARCH_RR 1e-4
 
 /* Most blocks of one ray whose first factor march takes a given offset (params.offsets). */
-#define VBL_UNBIASED_MARCH_OFFSETS VBL_TRACKING_MARCH_OFFSETS
+#define VBL_UNBIASED_MARCH_OFFSETS 2
 
 typedef struct vbl_unbiased_march_params {
     double rate;       /* > 0: points per unit residual optical depth of the factors' marches */
