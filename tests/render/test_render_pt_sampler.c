@@ -94,11 +94,16 @@ static void test_sobol_deterministic_and_merges(void** state)
         const float* pb = vbl_film_layer_rgb(b, layer_names[l]);
         const float* pm = vbl_film_layer_rgb(merged, layer_names[l]);
         const float* pi = vbl_film_layer_rgb(ind, layer_names[l]);
+        const float* p0 = vbl_film_layer_rgb(parts[0], layer_names[l]);
+        const float* p1 = vbl_film_layer_rgb(parts[1], layer_names[l]);
         assert_true((pa == NULL) == (pb == NULL) && (pa == NULL) == (pm == NULL));
         if (!pa) continue;
         assert_memory_equal(pa, pb, sizeof(float) * 3 * W * H);
         for (int k = 0; k < 3 * W * H; ++k) {
-            worst = fmax(worst, fabs((double)pm[k] - pa[k]) / (fabs((double)pa[k]) + 1e-6));
+            /* relative to the parts: the merge rounds them (pt.shadow_control's corrections may be
+             * negative, so a pixel can be far smaller than its parts) */
+            const double scale = fabs((double)pa[k]) + fabs((double)p0[k]) + fabs((double)p1[k]);
+            worst = fmax(worst, fabs((double)pm[k] - pa[k]) / (scale + 1e-6));
             differs |= pa[k] != pi[k];
         }
     }
@@ -130,6 +135,8 @@ static vbl_film* render_box(const vbl_scene* scene, const void* config, uint64_t
     o.max_bounces = 1;
     o.pt.sampler = cfg->sampler;
     o.pt.camera_split = cfg->split;
+    o.pt.shadow_control = 0; /* the forced point's pick is what Sobol stratifies here; with the
+                                control, which takes much of that noise away, the ratio read 0.84 */
     vbl_film* film = NULL;
     if (vbl_render(scene, &o, &film) != VBL_SUCCESS) fail_msg("render: %s", vbl_last_error_message());
     return film;

@@ -263,6 +263,12 @@ typedef enum vbl_render_option_effect {
       "pt: Russian roulette on the NEE shadow rays of medium vertices after the first scattering event, "   \
       "survival 4 pi x phase value x throughput / the camera-visible vertex's throughput (at least 0.05; "  \
       "unbiased)")                                                                                            \
+    X(pt., pt_shadow_control, shadow_control, int, BOOL, "pt.shadow_control", "--pt-shadow-control", 1, 0, 1, \
+      0, NULL, HASH,                                                                                         \
+      "pt: a transmittance grid towards each distant light, built once per render, as a control variate: "  \
+      "the camera walk's single scattering sums it over the walk's points and the forced point's shadow "   \
+      "ray estimates T - T_c; pt.shadow_roulette returns T_c where it stops a ray, survival 1/4 of its own, " \
+      "at least 0.01 (unbiased)")                                                                            \
     X(pt., pt_light_focus, light_focus, double, DOUBLE, "pt.light_focus", "--pt-light-focus", 0.25, 0, 0.5, \
       0, NULL, HASH,                                                                                         \
       "pt: share of scattered directions (at surfaces and at the first 4 medium events) drawn from cones "  \

@@ -18,6 +18,7 @@
 #include "transport/path_tracing/pt.h"
 #include "transport/path_tracing/pt_guide.h"
 #include "transport/path_tracing/pt_light_focus.h"
+#include "transport/path_tracing/pt_shadow_control.h"
 #include "render/pixel_focus.h"
 #include "transport/common/photon_trace.h"
 
@@ -339,6 +340,17 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
         }
         ctx.light_guide = light_guide;
     }
+    /* pt.shadow_control: the transmittance grids towards the distant lights, once per render
+     * (pt_shadow_control.h); every method, since vrl, vbl and vpl take their single scattering
+     * from pt's paths */
+    vbl_sun_grid* sun_grids = NULL;
+    if ((r = vbl_pt_shadow_control_build(&ctx, &sun_grids))) {
+        free(accum);
+        vbl_pt_guide_free(guide);
+        vbl_light_guide_free(light_guide);
+        return r;
+    }
+    ctx.sun_grids = sun_grids;
     volatile int stop_latch = 0;
     ctx.stop_latch = &stop_latch;
     int passes_done = 0, cancelled = 0, time_limited = 0, discarded = 0;
@@ -365,6 +377,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
                 free(accum);
                 vbl_pt_guide_free(guide);
                 vbl_light_guide_free(light_guide);
+                vbl_pt_shadow_control_free(sun_grids, scene->light_count);
                 return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "%s: out of memory for the film's pass copy", scene->path);
             }
             memcpy(backup, accum, pixel_count * sizeof *backup);
@@ -385,6 +398,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
             free(accum);
             vbl_pt_guide_free(guide);
             vbl_light_guide_free(light_guide);
+            vbl_pt_shadow_control_free(sun_grids, scene->light_count);
             return r;
         }
         volatile int stop_pass = 0;
@@ -451,6 +465,7 @@ vbl_result vbl_render_with_estimator(const vbl_scene* scene, const vbl_render_op
     free(backup);
     vbl_pt_guide_free(guide);
     vbl_light_guide_free(light_guide);
+    vbl_pt_shadow_control_free(sun_grids, scene->light_count);
     if (passes_done == 0) { /* stopped inside the first pass: nothing to return */
         free(accum);
         const char* why = cancelled ? "render cancelled" : "time limit reached";

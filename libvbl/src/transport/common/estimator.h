@@ -64,6 +64,9 @@ typedef struct vbl_render_context {
                                                 (render/pixel_focus.h; NULL: none) */
     const struct vbl_light_guide* light_guide; /* vrl.light_guide: built once per render
                                                   (transport/common/photon_trace.h; NULL: off) */
+    const struct vbl_sun_grid* sun_grids; /* pt.shadow_control: per light (scene->lights order), the
+                                             transmittance grid towards a distant light (its T NULL
+                                             for other lights; volume/sun_grid.h); NULL: off */
 } vbl_render_context;
 
 /* 1 if the estimator must compute class c (vbl_render_context.skip_classes). */

@@ -38,6 +38,7 @@
 #include "transport/path_tracing/pt_equiangular.h"
 #include "transport/path_tracing/pt_guide.h"
 #include "transport/path_tracing/pt_light_focus.h"
+#include "transport/path_tracing/pt_shadow_control.h"
 
 /* Where a path's 2D sample pairs come from (option pt.sampler): the render's rng stream
  * (independent), or the Owen-scrambled Sobol pair of (seed, pixel, pair, bounce) at the sample's
@@ -190,9 +191,13 @@ typedef struct vbl_pt_segment {
  * small weights, and those rays were 56 % of a dense cloud's CPU (docs/readme/performance.md,
  * session 12). */
 #define VBL_PT_SHADOW_RR_MIN 0.05
+static double vbl_pt_shadow_ratio(vbl_vec3 beta, double phase, double ref)
+{
+    return 4.0 * VBL_PI * phase * vbl_v3_max_component(beta) / ref;
+}
 static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
 {
-    const double q = 4.0 * VBL_PI * phase * vbl_v3_max_component(beta) / ref;
+    const double q = vbl_pt_shadow_ratio(beta, phase, ref);
     return q >= 1.0 ? 1.0 : (q > VBL_PT_SHADOW_RR_MIN ? q : VBL_PT_SHADOW_RR_MIN); /* NaN: the minimum */
 }
 
@@ -202,8 +207,8 @@ static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
                                      const vbl_pt_dims* dims, int last, double rr_ref,
-                                     const vbl_pt_light_focus_vertex* fv, vbl_vec3 beta, vbl_rng* rng,
-                                     vbl_sample_value* out)
+                                     const vbl_pt_light_focus_vertex* fv, int control_first, vbl_vec3 beta,
+                                     vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -217,12 +222,24 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     vbl_vec3 kernel = vbl_medium_phase_kernel(mp, cos_theta);
     if (vbl_v3_max_component(kernel) <= 0.0) return;
     const double phase = vbl_medium_phase_pdf(mp, cos_theta);
-    double q = 1.0;
-    if (rr_ref > 0.0) {
-        q = vbl_pt_shadow_survival(beta, phase, rr_ref);
-        if (q < 1.0 && vbl_rng_uniform(rng) >= q) return;
+    double T;
+    const vbl_sun_grid* control = vbl_pt_shadow_control_of(ctx, light); /* pt.shadow_control */
+    if (control && control_first && path->events == 1) /* vbl_pt_shadow_control_walk added T_c's part */
+        T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) - vbl_sun_grid_eval(control, x);
+    else if (control && rr_ref > 0.0) { /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c) */
+        if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) return;
+        const double Tc = vbl_sun_grid_eval(control, x);
+        const double q = vbl_pt_shadow_control_survival(vbl_pt_shadow_ratio(beta, phase, rr_ref));
+        if (q < 1.0 && vbl_rng_uniform(rng) >= q) T = Tc;
+        else T = Tc + (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
+    } else {
+        double q = 1.0;
+        if (rr_ref > 0.0) {
+            q = vbl_pt_shadow_survival(beta, phase, rr_ref);
+            if (q < 1.0 && vbl_rng_uniform(rng) >= q) return;
+        }
+        T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) / q;
     }
-    double T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) / q;
     if (T == 0.0) return; /* an unbiased estimate may be negative (unbiased-march): kept, or the mean drops */
     double w = 1.0;
     /* at the path's last vertex no phase direction is traced: that strategy's density is 0; the
@@ -337,6 +354,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const int equiangular = vbl_pt_equiangular_active(ctx);
     const int direct_strata = vbl_pt_direct_strata_active(ctx);
     const int camera_split = vbl_pt_camera_split_active(ctx);
+    const int control_first = vbl_pt_shadow_control_first(ctx); /* pt.shadow_control at the walk */
     /* pt.split_behind_march: the camera split's surface or background part weighted by its own
      * estimate of the segment's T, with surface_first_ctx's tracking (the camera-visible surface's
      * march density), instead of the walk's ratio-tracking product: the walk's noise was most of
@@ -482,6 +500,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             if (split_march && (on_surface || split_env)) /* the part behind: see split_march */
                 walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface, &behind_tracking, rng);
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
+            if (control_first)
+                vbl_pt_shadow_control_walk(ctx, &walk, origin, direction, beta, &out->L[VBL_CLASS_VOLUME_DIRECT]);
             segment_estimators = 2;
             collided = 0;
             if (k >= 0 && n_paths > 1) { /* the other strata's points, traced after this path */
@@ -580,8 +600,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             const double shadow_rr = shadow_roulette && path.events >= 2 ? beta_first : 0.0;
             /* pt.light_focus: this vertex's directions (and every MIS weight using their density) */
             const vbl_pt_light_focus_vertex fv = vbl_pt_light_focus_at_event(focus, path.events);
-            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, &fv, beta,
-                                     rng, out);
+            vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, &fv,
+                                     control_first, beta, rng, out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, vbl_pt_light_focus_medium_pdf_fn,
                                         &fv, beta, rng, &out->L[vbl_pt_class(&path)]);

@@ -1,0 +1,81 @@
+/* pt.shadow_control's grids and the camera walk's control sum (pt_shadow_control.h). */
+#include "transport/path_tracing/pt_shadow_control.h"
+
+#include <stdlib.h>
+
+#include "sampling/phase_hg.h"
+#include "transport/path_tracing/pt_direct_strata.h"
+
+/* The sweep's visibility test: a surface between the node and the light (Embree; thread-safe). */
+static int vbl_pt_shadow_control_occluded(void* user, vbl_vec3 x, vbl_vec3 w)
+{
+    return vbl_ctx_occluded((const vbl_render_context*)user, x, w, INFINITY);
+}
+
+vbl_result vbl_pt_shadow_control_build(const vbl_render_context* ctx, vbl_sun_grid** out)
+{
+    *out = NULL;
+    const vbl_scene* scene = ctx->scene;
+    if (!ctx->options.pt.shadow_control || ctx->extinction->count == 0) return VBL_SUCCESS;
+    int any = 0;
+    for (int i = 0; i < scene->light_count; ++i) any |= scene->lights[i].type == VBL_LIGHT_DISTANT;
+    vbl_vec3 lo, hi;
+    if (!any || !vbl_scene_media_box(scene, &lo, &hi)) return VBL_SUCCESS;
+    vbl_sun_grid* grids = calloc((size_t)scene->light_count, sizeof *grids);
+    if (!grids) return vbl_error(VBL_ERROR_OUT_OF_MEMORY, "out of memory for pt.shadow_control's grids");
+    int built = 0;
+    for (int i = 0; i < scene->light_count && built < VBL_PT_SHADOW_CONTROL_LIGHTS; ++i) {
+        if (scene->lights[i].type != VBL_LIGHT_DISTANT) continue;
+        vbl_result r = vbl_sun_grid_build(&grids[i], ctx->extinction, lo, hi, vbl_v3_scale(scene->lights[i].direction, -1.0),
+                                          VBL_PT_SHADOW_CONTROL_NODES, ctx->threads,
+                                          scene->surfaces ? vbl_pt_shadow_control_occluded : NULL, (void*)ctx);
+        if (r) {
+            vbl_pt_shadow_control_free(grids, scene->light_count);
+            return r;
+        }
+        ++built;
+    }
+    *out = grids;
+    return VBL_SUCCESS;
+}
+
+void vbl_pt_shadow_control_free(vbl_sun_grid* grids, int count)
+{
+    if (!grids) return;
+    for (int i = 0; i < count; ++i) vbl_sun_grid_free(&grids[i]);
+    free(grids);
+}
+
+int vbl_pt_shadow_control_first(const vbl_render_context* ctx)
+{
+    const vbl_scene* scene = ctx->scene;
+    return ctx->sun_grids && vbl_pt_camera_split_active(ctx) && ctx->extinction->count == 1 &&
+           scene->media[0].albedo_volume[0] == NULL && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT) &&
+           ctx->options.max_bounces != 0 && !vbl_pt_direct_strata_active(ctx);
+}
+
+void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, const vbl_pt_split_walk* walk, vbl_vec3 origin,
+                                vbl_vec3 direction, vbl_vec3 beta, vbl_vec3* L)
+{
+    const vbl_scene* scene = ctx->scene;
+    const vbl_medium* m = &scene->media[0];
+    const double mean = (m->albedo.x + m->albedo.y + m->albedo.z) / 3.0;
+    if (walk->n <= 0 || !(mean > 0.0)) return;
+    for (int l = 0; l < scene->light_count; ++l) {
+        const vbl_sun_grid* g = &ctx->sun_grids[l];
+        if (!g->T) continue;
+        double sum = 0.0, prev = 0.0;
+        for (int i = 0; i < walk->n; ++i) {
+            const double w = walk->cum[i] - prev; /* the candidate's weight */
+            prev = walk->cum[i];
+            if (w > 0.0) sum += w * vbl_sun_grid_eval(g, vbl_v3_madd(origin, direction, walk->t[i]));
+        }
+        /* the forced point's NEE kernel over sigma_s: albedo HG(g, cos) / mean albedo (pt.c's
+         * beta W sigma_t / sigma_s times kernel / sigma_t, with one medium) */
+        const vbl_light* light = &scene->lights[l];
+        const double s = sum * vbl_hg_eval(m->g, vbl_v3_dot(direction, g->w)) / mean;
+        L->x += beta.x * m->albedo.x * light->color.x * s;
+        L->y += beta.y * m->albedo.y * light->color.y * s;
+        L->z += beta.z * m->albedo.z * light->color.z * s;
+    }
+}

@@ -1,0 +1,70 @@
+/* pt.shadow_control (issue 14): a control variate for the shadow rays towards distant lights.
+ *
+ * Once per render, a deterministic transmittance grid towards each distant light over the media's
+ * box (volume/sun_grid.h; surfaces that block the light zero its nodes). It serves two estimators,
+ * both unbiased for any deterministic T_c, whose error only sets the variance left:
+ *  - the camera-visible vertex (the camera walk's forced points, pt_camera_split.h): the walk's
+ *    single scattering sum_i w_i f(p_i) (Novak et al. 2018, sec. 5.2) splits into
+ *    sum_i w_i h(p_i) T_c(p_i), summed exactly over the walk's candidates here, and
+ *    sum_i w_i h(p_i) (T - T_c)(p_i), estimated as before by the forced point, whose shadow ray now
+ *    estimates T - T_c. Which point the pick lands on (lit skin or self-shadowed core) no longer
+ *    moves the estimate by T's full range, only by T - T_c's;
+ *  - deeper medium vertices (pt.shadow_roulette): where the roulette stops a shadow ray the
+ *    estimate is T_c instead of 0, and a traced ray's T^ enters as T_c + (T^ - T_c) / q (Russian
+ *    roulette on the difference to a control). The roulette's added variance falls from
+ *    ~T^2 (1 - q) / q to ~E[(T^ - T_c)^2] (1 - q) / q, so it stops more rays: survival
+ *    VBL_PT_SHADOW_CONTROL_RR_SCALE x pt.shadow_roulette's, at least VBL_PT_SHADOW_CONTROL_RR_MIN.
+ * Measured in docs/readme/sampling.md ("A control variate for shadow rays towards distant lights"). */
+#ifndef VBL_PT_SHADOW_CONTROL_H
+#define VBL_PT_SHADOW_CONTROL_H
+
+#include "transport/common/estimator.h"
+#include "transport/path_tracing/pt_camera_split.h"
+#include "volume/sun_grid.h"
+
+/* Nodes per grid (1 MB of floats; the grid is no finer than the media's voxels). 1M nodes gave
+ * the same variance at 3x the build time on the race clouds. */
+#define VBL_PT_SHADOW_CONTROL_NODES ((size_t)1 << 18)
+/* Distant lights that get a grid (the first ones in scene order); the others keep the plain
+ * estimators. */
+#define VBL_PT_SHADOW_CONTROL_LIGHTS 8
+/* The deep vertices' roulette with the control: q = clamp(scale x pt.shadow_roulette's q before
+ * its clamp, min, 1); 0.25 / 0.01 measured against 1 / 0.05 and 0.1 / 0.005 and 0.03 / 0.002 on
+ * the race clouds (sampling.md). */
+#define VBL_PT_SHADOW_CONTROL_RR_SCALE 0.25
+#define VBL_PT_SHADOW_CONTROL_RR_MIN 0.01
+
+/* The grids, one per light (scene->lights order; T NULL for lights without one), in *out; NULL
+ * when the option is off or the scene has no media or no distant light. Fails with
+ * VBL_ERROR_OUT_OF_MEMORY. */
+vbl_result vbl_pt_shadow_control_build(const vbl_render_context* ctx, vbl_sun_grid** out);
+void vbl_pt_shadow_control_free(vbl_sun_grid* grids, int count);
+
+/* The grid of `light` (NULL: none). */
+static inline const vbl_sun_grid* vbl_pt_shadow_control_of(const vbl_render_context* ctx, const vbl_light* light)
+{
+    if (!ctx->sun_grids || !light) return NULL;
+    const vbl_sun_grid* g = &ctx->sun_grids[light - ctx->scene->lights];
+    return g->T ? g : NULL;
+}
+
+/* 1 if the camera-visible vertex takes the control (vbl_pt_shadow_control_walk): grids built,
+ * pt.camera_split on, one medium of constant albedo (so that the kernel over sigma_s is the same
+ * at every candidate of the walk), volume_direct wanted and reached, pt.direct_strata off. */
+int vbl_pt_shadow_control_first(const vbl_render_context* ctx);
+
+/* Adds beta sum_l (albedo / mean albedo) HG(g, cos_l) Li_l sum_i w_i T_c,l(p_i) to *L: the
+ * control's part of the camera-visible vertex's NEE from the distant lights with a grid, over the
+ * walk's candidates p_i = origin + t_i direction (weights w_i). */
+void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, const vbl_pt_split_walk* walk, vbl_vec3 origin,
+                                vbl_vec3 direction, vbl_vec3 beta, vbl_vec3* L);
+
+/* The survival probability of a deep vertex's shadow ray towards a light with a grid, from
+ * pt.shadow_roulette's ratio r = 4 pi p max(beta) / max(beta_1). */
+static inline double vbl_pt_shadow_control_survival(double r)
+{
+    const double q = VBL_PT_SHADOW_CONTROL_RR_SCALE * r;
+    return q >= 1.0 ? 1.0 : (q > VBL_PT_SHADOW_CONTROL_RR_MIN ? q : VBL_PT_SHADOW_CONTROL_RR_MIN); /* NaN: min */
+}
+
+#endif
