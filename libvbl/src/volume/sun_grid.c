@@ -59,7 +59,10 @@ vbl_result vbl_sun_grid_build(vbl_sun_grid* g, const vbl_extinction* ext, vbl_ve
         if (nodes <= (double)max_nodes || nodes <= 8.0) break;
         h *= 1.02;
     }
-    for (int a = 0; a < 3; ++a) g->h[a] = e[a] / (g->n[a] - 1);
+    for (int a = 0; a < 3; ++a) {
+        g->h[a] = e[a] / (g->n[a] - 1);
+        g->inv_h[a] = 1.0 / g->h[a];
+    }
     g->lo = lo;
     g->hi = hi;
     g->w = w;
@@ -137,9 +140,34 @@ vbl_result vbl_sun_grid_build(vbl_sun_grid* g, const vbl_extinction* ext, vbl_ve
     return VBL_SUCCESS;
 }
 
+/* Trilinear at fractional node coordinates f (clamped into the grid). */
+static double vbl_sun_grid_trilinear(const vbl_sun_grid* g, const double f_in[3])
+{
+    int i[3];
+    double u[3];
+    for (int a = 0; a < 3; ++a) {
+        double f = f_in[a];
+        if (!(f > 0.0)) f = 0.0;
+        if (f > g->n[a] - 1) f = g->n[a] - 1;
+        i[a] = (int)f;
+        if (i[a] > g->n[a] - 2) i[a] = g->n[a] - 2;
+        u[a] = f - i[a];
+    }
+    const size_t s1 = (size_t)g->n[2], s0 = (size_t)g->n[1] * s1;
+    const float* T = g->T + (size_t)i[0] * s0 + (size_t)i[1] * s1 + (size_t)i[2];
+    const double x00 = T[0] + u[2] * (T[1] - T[0]), x01 = T[s1] + u[2] * (T[s1 + 1] - T[s1]);
+    const double x10 = T[s0] + u[2] * (T[s0 + 1] - T[s0]), x11 = T[s0 + s1] + u[2] * (T[s0 + s1 + 1] - T[s0 + s1]);
+    const double y0 = x00 + u[1] * (x01 - x00), y1 = x10 + u[1] * (x11 - x10);
+    return y0 + u[0] * (y1 - y0);
+}
+
 double vbl_sun_grid_eval(const vbl_sun_grid* g, vbl_vec3 x)
 {
     if (!g->T) return 1.0;
+    if (x.x >= g->lo.x && x.x <= g->hi.x && x.y >= g->lo.y && x.y <= g->hi.y && x.z >= g->lo.z && x.z <= g->hi.z) {
+        const double f[3] = {(x.x - g->lo.x) * g->inv_h[0], (x.y - g->lo.y) * g->inv_h[1], (x.z - g->lo.z) * g->inv_h[2]};
+        return vbl_sun_grid_trilinear(g, f); /* inside: most calls (the camera walk's candidates) */
+    }
     const double p[3] = {x.x, x.y, x.z}, d[3] = {g->w.x, g->w.y, g->w.z};
     const double lo[3] = {g->lo.x, g->lo.y, g->lo.z}, hi[3] = {g->hi.x, g->hi.y, g->hi.z};
     double t0 = 0.0, t1 = INFINITY;
@@ -159,22 +187,9 @@ double vbl_sun_grid_eval(const vbl_sun_grid* g, vbl_vec3 x)
         if (tb < t1) t1 = tb;
     }
     if (!(t0 <= t1)) return 1.0; /* the ray misses the box */
-    int i[3];
-    double u[3];
-    for (int a = 0; a < 3; ++a) {
-        double f = (p[a] + t0 * d[a] - lo[a]) / g->h[a];
-        if (!(f > 0.0)) f = 0.0;
-        if (f > g->n[a] - 1) f = g->n[a] - 1;
-        i[a] = (int)f;
-        if (i[a] > g->n[a] - 2) i[a] = g->n[a] - 2;
-        u[a] = f - i[a];
-    }
-    const size_t s1 = (size_t)g->n[2], s0 = (size_t)g->n[1] * s1;
-    const float* T = g->T + (size_t)i[0] * s0 + (size_t)i[1] * s1 + (size_t)i[2];
-    const double x00 = T[0] + u[2] * (T[1] - T[0]), x01 = T[s1] + u[2] * (T[s1 + 1] - T[s1]);
-    const double x10 = T[s0] + u[2] * (T[s0 + 1] - T[s0]), x11 = T[s0 + s1] + u[2] * (T[s0 + s1 + 1] - T[s0 + s1]);
-    const double y0 = x00 + u[1] * (x01 - x00), y1 = x10 + u[1] * (x11 - x10);
-    return y0 + u[0] * (y1 - y0);
+    double f[3];
+    for (int a = 0; a < 3; ++a) f[a] = (p[a] + t0 * d[a] - lo[a]) * g->inv_h[a];
+    return vbl_sun_grid_trilinear(g, f);
 }
 
 void vbl_sun_grid_free(vbl_sun_grid* g)

@@ -18,6 +18,7 @@ typedef struct vbl_sun_grid {
     vbl_vec3 w;      /* unit direction towards the light */
     int n[3];        /* nodes per axis (>= 2) */
     double h[3];     /* node spacing per axis */
+    double inv_h[3]; /* 1 / h */
     float* T;        /* node (i, j, k) at T[((size_t)i * n[1] + j) * n[2] + k]; NULL: no grid */
 } vbl_sun_grid;
 
