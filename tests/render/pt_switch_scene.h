@@ -54,6 +54,28 @@ static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, in
     return scene;
 }
 
+/* pt with its defaults on pt_switch_scene at density scales 1e-8 (nothing scatters) and 1e6 (every
+ * walk ends within a voxel): finite films summing to their beauty, with signal. */
+static inline void pt_switch_check_extremes(void)
+{
+    const double scales[2] = {1e-8, 1e6};
+    for (int i = 0; i < 2; ++i) {
+        vbl_volume* volume;
+        vbl_scene* scene = pt_switch_scene(scales[i], 0, 12, 10, &volume);
+        vbl_render_options o = tt_options(1, 1, 0, 5);
+        o.method = VBL_RENDER_PT;
+        o.max_bounces = 3; /* at 1e6 a shadow ray's tracking takes ~1e5 steps: bound the work */
+        vbl_film* f = NULL;
+        assert_int_equal(vbl_render(scene, &o, &f), VBL_SUCCESS);
+        const double total = check_sum_to_beauty(f);
+        printf("density scale %g: beauty total %g\n", scales[i], total);
+        assert_true(total > 0.0);
+        vbl_film_release(f);
+        vbl_scene_release(scene);
+        vt_free(volume);
+    }
+}
+
 /* A Lambert floor (z = -1, edges 2 floor_half, albedo floor_albedo) under the sphere
  * tt_make_sphere(16, 0.9) (density_scale, albedo, HG g), lit by one point light of intensity 3 at
  * `light`, seen through `cam`: the floor's shadow rays cross the smoke (test_render_pt_core's

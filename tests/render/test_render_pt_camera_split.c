@@ -94,20 +94,7 @@ static void test_deterministic_and_active(void** state)
 static void test_finite_at_extremes(void** state)
 {
     (void)state;
-    const double scales[2] = {1e-8, 1e6};
-    for (int i = 0; i < 2; ++i) {
-        split_case c = surfaces_case(scales[i]);
-        vbl_render_options o = tt_options(1, 1, 0, 5);
-        o.method = VBL_RENDER_PT;
-        o.max_bounces = 3; /* at 1e6 a shadow ray's tracking takes ~1e5 steps: bound the work */
-        vbl_film* f = NULL;
-        assert_int_equal(vbl_render(c.scene, &o, &f), VBL_SUCCESS);
-        double total = check_sum_to_beauty(f);
-        printf("density scale %g: beauty total %g\n", scales[i], total);
-        assert_true(total > 0.0);
-        vbl_film_release(f);
-        release_case(&c);
-    }
+    pt_switch_check_extremes();
 }
 
 /* The sphere tt_make_sphere(16, 0.9) alone (albedo 0.8, HG g), seen whole from 4 units away through
@@ -122,27 +109,12 @@ static vbl_scene* sphere_scene(double fov_deg, double density_scale, double g, v
     return scene;
 }
 
-/* Layer means of configurations `on` and `off` over `renders` renders each: |z| <= Z_CRIT on every layer
- * with signal; returns the se ratio (on / off) of layer `se_layer`. */
+/* Layer means of configurations `on` and `off` over `renders` renders each (check_layers_agree);
+ * returns the se ratio (on / off) of layer `se_layer`. */
 static double check_configs(const vbl_scene* scene, const split_config* on, const split_config* off, int se_layer,
                             int renders)
 {
-    double m1[VBL_CLASS_COUNT], s1[VBL_CLASS_COUNT], m0[VBL_CLASS_COUNT], s0[VBL_CLASS_COUNT];
-    layer_stats(render_cfg, scene, on, renders, 11, m1, s1);
-    layer_stats(render_cfg, scene, off, renders, 22, m0, s0);
-    int checked = 0;
-    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-        if (!(m0[l] > 0.0)) continue;
-        double se = sqrt(s1[l] * s1[l] + s0[l] * s0[l]);
-        double z = (m1[l] - m0[l]) / se;
-        printf("%-22s split %.6f (se %.6f)  flight %.6f (se %.6f)  z = %+.2f  se ratio %.2f\n", layer_names[l], m1[l],
-               s1[l], m0[l], s0[l], z, s1[l] / s0[l]);
-        assert_true(se > 0.0 && se < 0.2 * m0[l]);
-        assert_true(fabs(z) <= Z_CRIT);
-        ++checked;
-    }
-    assert_true(checked >= 1);
-    return s1[se_layer] / s0[se_layer];
+    return check_layers_agree(render_cfg, scene, on, off, renders, Z_CRIT, 1, se_layer, "split", "flight");
 }
 
 /* The split (defaults) against the flight. */

@@ -59,46 +59,16 @@ static void test_deterministic_and_active(void** state)
 static void test_finite_at_extremes(void** state)
 {
     (void)state;
-    const double scales[2] = {1e-8, 1e6};
-    for (int i = 0; i < 2; ++i) {
-        vbl_volume* volume;
-        vbl_scene* scene = pt_switch_scene(scales[i], 0, 12, 10, &volume);
-        vbl_render_options o = tt_options(1, 1, 0, 5);
-        o.method = VBL_RENDER_PT;
-        o.max_bounces = 3; /* at 1e6 a shadow ray's tracking takes ~1e5 steps: bound the work */
-        vbl_film* f = NULL;
-        assert_int_equal(vbl_render(scene, &o, &f), VBL_SUCCESS);
-        double total = check_sum_to_beauty(f);
-        printf("density scale %g: beauty total %g\n", scales[i], total);
-        assert_true(total > 0.0);
-        vbl_film_release(f);
-        vbl_scene_release(scene);
-        vt_free(volume);
-    }
+    pt_switch_check_extremes();
 }
 
-/* Layer means with and without the control over `renders` renders each: |z| <= Z_CRIT on every
- * layer with signal; returns the standard-error ratio (on / off) of layer `se_layer`. */
+/* Every layer's mean with the control against false over `renders` renders each
+ * (check_layers_agree); returns the standard-error ratio (on / off) of layer `se_layer`. */
 static double check_agreement(const vbl_scene* scene, control_config on, int renders, int se_layer)
 {
     control_config off = on;
     off.control = 0;
-    double m1[VBL_CLASS_COUNT], s1[VBL_CLASS_COUNT], m0[VBL_CLASS_COUNT], s0[VBL_CLASS_COUNT];
-    layer_stats(render_cfg, scene, &on, renders, 11, m1, s1);
-    layer_stats(render_cfg, scene, &off, renders, 22, m0, s0);
-    int checked = 0;
-    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
-        if (!(m0[l] > 0.0)) continue;
-        double se = sqrt(s1[l] * s1[l] + s0[l] * s0[l]);
-        double z = (m1[l] - m0[l]) / se;
-        printf("%-22s control %.6f (se %.6f)  off %.6f (se %.6f)  z = %+.2f  se ratio %.2f\n", layer_names[l], m1[l],
-               s1[l], m0[l], s0[l], z, s1[l] / s0[l]);
-        assert_true(se > 0.0 && se < 0.2 * m0[l]);
-        assert_true(fabs(z) <= Z_CRIT);
-        ++checked;
-    }
-    assert_true(checked >= 1);
-    return s1[se_layer] / s0[se_layer];
+    return check_layers_agree(render_cfg, scene, &on, &off, renders, Z_CRIT, 1, se_layer, "control", "off");
 }
 
 /* The sphere among Lambert surfaces: nodes the floor and wall block, quad-light MIS at deep

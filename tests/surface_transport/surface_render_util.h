@@ -138,6 +138,31 @@ static inline void check_configs_deterministic(layer_stats_render render, const 
     vbl_film_release(d);
 }
 
+/* Layer means of configurations `on` and `off` over `renders` renders each (layer_stats, seeds 11
+ * and 22): on every layer where off's mean is positive, the pooled standard error is below 0.2x
+ * that mean and |z| <= z_crit; at least min_checked such layers. Prints a line per layer, the
+ * configurations named on_name and off_name. Returns on's standard error over off's on se_layer. */
+static inline double check_layers_agree(layer_stats_render render, const vbl_scene* scene, const void* on,
+                                        const void* off, int renders, double z_crit, int min_checked, int se_layer,
+                                        const char* on_name, const char* off_name)
+{
+    double m1[VBL_CLASS_COUNT], s1[VBL_CLASS_COUNT], m0[VBL_CLASS_COUNT], s0[VBL_CLASS_COUNT];
+    layer_stats(render, scene, on, renders, 11, m1, s1);
+    layer_stats(render, scene, off, renders, 22, m0, s0);
+    int checked = 0;
+    for (int l = 0; l < VBL_CLASS_COUNT; ++l) {
+        if (!(m0[l] > 0.0)) continue;
+        const double se = sqrt(s1[l] * s1[l] + s0[l] * s0[l]), z = (m1[l] - m0[l]) / se;
+        printf("%-22s %s %.6f (se %.6f)  %s %.6f (se %.6f)  z = %+.2f  se ratio %.2f\n", layer_names[l], on_name, m1[l],
+               s1[l], off_name, m0[l], s0[l], z, s1[l] / s0[l]);
+        assert_true(se > 0.0 && se < 0.2 * m0[l]);
+        assert_true(fabs(z) <= z_crit);
+        ++checked;
+    }
+    assert_true(checked >= min_checked);
+    return s1[se_layer] / s0[se_layer];
+}
+
 /* Renders with estimator est (tt_options plus threads and max_bounces); fails the test on error. */
 static inline vbl_film* render_with(const vbl_scene* scene, const vbl_estimator* est, int passes, int spp, int paths,
                                     uint64_t seed, int threads, int max_bounces)
