@@ -191,8 +191,9 @@ static void test_albedo_constant_grid(void** state)
         }
         /* vrl, same seed: the grid's constant equals the albedo, so every light path and VRL
          * kernel is the same (light paths scattering with the scale, 1, instead would differ).
-         * pt.shadow_control off: its camera-walk control needs a constant albedo, so the two scenes
-         * would take different (each unbiased) single-scattering estimators */
+         * pt.shadow_control off: its camera-walk control sums exactly for a constant albedo and at
+         * stratified picks for an albedo grid, so the two scenes would take different (each
+         * unbiased) single-scattering estimators */
         a = render_with(with_grid, VBL_RENDER_VRL, 2, 2, 13, 2, 0);
         b = render_with(constant, VBL_RENDER_VRL, 2, 2, 13, 2, 0);
         int c = 0;

@@ -501,7 +501,8 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 walk.T_end = vbl_ctx_media_transmittance(ctx, ts, origin, direction, t_surface, &behind_tracking, rng);
             vbl_pt_split_visible_lights(ctx, ts, origin, direction, t_surface, walk.T_end, beta, rng, out);
             if (control_first)
-                vbl_pt_shadow_control_walk(ctx, &walk, origin, direction, beta, &out->L[VBL_CLASS_VOLUME_DIRECT]);
+                vbl_pt_shadow_control_walk(ctx, ts, &walk, origin, direction, u_pick, beta,
+                                           &out->L[VBL_CLASS_VOLUME_DIRECT]);
             segment_estimators = 2;
             collided = 0;
             if (k >= 0 && n_paths > 1) { /* the other strata's points, traced after this path */

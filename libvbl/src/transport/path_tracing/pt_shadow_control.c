@@ -3,6 +3,8 @@
 
 #include <stdlib.h>
 
+#include "media/medium.h"
+#include "media/medium_grids.h"
 #include "sampling/phase_hg.h"
 #include "transport/path_tracing/pt_direct_strata.h"
 
@@ -48,34 +50,71 @@ void vbl_pt_shadow_control_free(vbl_sun_grid* grids, int count)
 
 int vbl_pt_shadow_control_first(const vbl_render_context* ctx)
 {
-    const vbl_scene* scene = ctx->scene;
-    return ctx->sun_grids && vbl_pt_camera_split_active(ctx) && ctx->extinction->count == 1 &&
-           scene->media[0].albedo_volume[0] == NULL && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT) &&
+    return ctx->sun_grids && vbl_pt_camera_split_active(ctx) && vbl_ctx_wants(ctx, VBL_CLASS_VOLUME_DIRECT) &&
            ctx->options.max_bounces != 0 && !vbl_pt_direct_strata_active(ctx);
 }
 
-void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, const vbl_pt_split_walk* walk, vbl_vec3 origin,
-                                vbl_vec3 direction, vbl_vec3 beta, vbl_vec3* L)
+/* One medium of constant albedo: the NEE kernel over sigma_s is the same at every candidate. */
+static int vbl_pt_shadow_control_uniform(const vbl_render_context* ctx)
+{
+    return ctx->extinction->count == 1 && ctx->scene->media[0].albedo_volume[0] == NULL;
+}
+
+void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_split_walk* walk,
+                                vbl_vec3 origin, vbl_vec3 direction, double u, vbl_vec3 beta, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
-    const vbl_medium* m = &scene->media[0];
-    const double mean = (m->albedo.x + m->albedo.y + m->albedo.z) / 3.0;
-    if (walk->n <= 0 || !(mean > 0.0)) return;
-    for (int l = 0; l < scene->light_count; ++l) {
-        const vbl_sun_grid* g = &ctx->sun_grids[l];
-        if (!g->T) continue;
-        double sum = 0.0, prev = 0.0;
-        for (int i = 0; i < walk->n; ++i) {
-            const double w = walk->cum[i] - prev; /* the candidate's weight */
-            prev = walk->cum[i];
-            if (w > 0.0) sum += w * vbl_sun_grid_eval(g, vbl_v3_madd(origin, direction, walk->t[i]));
+    if (walk->n <= 0) return;
+    if (vbl_pt_shadow_control_uniform(ctx)) { /* h is one constant: the exact sum over the candidates */
+        const vbl_medium* m = &scene->media[0];
+        const double mean = (m->albedo.x + m->albedo.y + m->albedo.z) / 3.0;
+        if (!(mean > 0.0)) return;
+        for (int l = 0; l < scene->light_count; ++l) {
+            const vbl_sun_grid* g = &ctx->sun_grids[l];
+            if (!g->T) continue;
+            double sum = 0.0, prev = 0.0;
+            for (int i = 0; i < walk->n; ++i) {
+                const double w = walk->cum[i] - prev; /* the candidate's weight */
+                prev = walk->cum[i];
+                if (w > 0.0) sum += w * vbl_sun_grid_eval(g, vbl_v3_madd(origin, direction, walk->t[i]));
+            }
+            /* the forced point's NEE kernel over sigma_s: albedo HG(g, cos) / mean albedo (pt.c's
+             * beta W sigma_t / sigma_s times kernel / sigma_t, with one medium) */
+            const vbl_light* light = &scene->lights[l];
+            const double s = sum * vbl_hg_eval(m->g, vbl_v3_dot(direction, g->w)) / mean;
+            L->x += beta.x * m->albedo.x * light->color.x * s;
+            L->y += beta.y * m->albedo.y * light->color.y * s;
+            L->z += beta.z * m->albedo.z * light->color.z * s;
         }
-        /* the forced point's NEE kernel over sigma_s: albedo HG(g, cos) / mean albedo (pt.c's
-         * beta W sigma_t / sigma_s times kernel / sigma_t, with one medium) */
-        const vbl_light* light = &scene->lights[l];
-        const double s = sum * vbl_hg_eval(m->g, vbl_v3_dot(direction, g->w)) / mean;
-        L->x += beta.x * m->albedo.x * light->color.x * s;
-        L->y += beta.y * m->albedo.y * light->color.y * s;
-        L->z += beta.z * m->albedo.z * light->color.z * s;
+        return;
+    }
+    /* Several media or an albedo grid: h differs per candidate, so the sum is estimated at
+     * VBL_PT_SHADOW_CONTROL_PICKS stratified picks (j + u) / M of the walk's weights, each
+     * W / M h(p) T_c(p) with the medium point as the forced point's NEE sees it (unbiased for the
+     * sum whatever u's relation to the forced point's own pick). */
+    const double W = walk->cum[walk->n - 1];
+    const int M = VBL_PT_SHADOW_CONTROL_PICKS;
+    double comps[VBL_MAX_MEDIA];
+    for (int j = 0; j < M; ++j) {
+        const int k = vbl_pt_camera_split_pick(walk, (j + u) / M);
+        if (k < 0) continue;
+        const vbl_vec3 p = vbl_v3_madd(origin, direction, walk->t[k]);
+        const double sigma_t = vbl_extinction_eval(ctx->extinction, &ts->cursor, p, comps);
+        if (!(sigma_t > 0.0)) continue;
+        vbl_medium_point mp;
+        vbl_medium_point_from_components(scene, comps, &mp);
+        vbl_medium_point_apply_grids(scene, p, ts->cursor.time, &mp);
+        const double ss = (mp.sigma_s.x + mp.sigma_s.y + mp.sigma_s.z) / 3.0;
+        if (!(ss > 0.0)) continue;
+        for (int l = 0; l < scene->light_count; ++l) {
+            const vbl_sun_grid* g = &ctx->sun_grids[l];
+            if (!g->T) continue;
+            const vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, vbl_v3_dot(direction, g->w));
+            const vbl_light* light = &scene->lights[l];
+            const double s = W / M * vbl_sun_grid_eval(g, p) / ss;
+            L->x += beta.x * kernel.x * light->color.x * s;
+            L->y += beta.y * kernel.y * light->color.y * s;
+            L->z += beta.z * kernel.z * light->color.z * s;
+        }
     }
 }

@@ -5,7 +5,8 @@
  * both unbiased for any deterministic T_c, whose error only sets the variance left:
  *  - the camera-visible vertex (the camera walk's forced points, pt_camera_split.h): the walk's
  *    single scattering sum_i w_i f(p_i) (Novak et al. 2018, sec. 5.2) splits into
- *    sum_i w_i h(p_i) T_c(p_i), summed exactly over the walk's candidates here, and
+ *    sum_i w_i h(p_i) T_c(p_i), summed over the walk's candidates here (exactly for one medium of
+ *    constant albedo, at stratified picks otherwise), and
  *    sum_i w_i h(p_i) (T - T_c)(p_i), estimated as before by the forced point, whose shadow ray now
  *    estimates T - T_c. Which point the pick lands on (lit skin or self-shadowed core) no longer
  *    moves the estimate by T's full range, only by T - T_c's;
@@ -49,15 +50,21 @@ static inline const vbl_sun_grid* vbl_pt_shadow_control_of(const vbl_render_cont
 }
 
 /* 1 if the camera-visible vertex takes the control (vbl_pt_shadow_control_walk): grids built,
- * pt.camera_split on, one medium of constant albedo (so that the kernel over sigma_s is the same
- * at every candidate of the walk), volume_direct wanted and reached, pt.direct_strata off. */
+ * pt.camera_split on, volume_direct wanted and reached, pt.direct_strata off. */
 int vbl_pt_shadow_control_first(const vbl_render_context* ctx);
 
-/* Adds beta sum_l (albedo / mean albedo) HG(g, cos_l) Li_l sum_i w_i T_c,l(p_i) to *L: the
- * control's part of the camera-visible vertex's NEE from the distant lights with a grid, over the
- * walk's candidates p_i = origin + t_i direction (weights w_i). */
-void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, const vbl_pt_split_walk* walk, vbl_vec3 origin,
-                                vbl_vec3 direction, vbl_vec3 beta, vbl_vec3* L);
+/* Picks of the walk that estimate the control's sum where the NEE kernel over sigma_s differs
+ * between candidates (several media, an albedo grid). */
+#define VBL_PT_SHADOW_CONTROL_PICKS 8
+
+/* Adds to *L the control's part of the camera-visible vertex's NEE from the distant lights with a
+ * grid: beta sum_l Li_l sum_i w_i h(p_i) T_c,l(p_i) over the walk's candidates p_i = origin + t_i
+ * direction (weights w_i), h = the NEE kernel over mean sigma_s at p_i. One medium of constant
+ * albedo: h = albedo HG(g, cos_l) / mean albedo at every candidate, the sum exact. Otherwise the
+ * sum is estimated at VBL_PT_SHADOW_CONTROL_PICKS stratified picks (j + u) / M of the weights
+ * (u uniform in [0, 1); the medium's lookups through ts). */
+void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_split_walk* walk,
+                                vbl_vec3 origin, vbl_vec3 direction, double u, vbl_vec3 beta, vbl_vec3* L);
 
 /* The survival probability of a deep vertex's shadow ray towards a light with a grid, from
  * pt.shadow_roulette's ratio r = 4 pi p max(beta) / max(beta_1). */
