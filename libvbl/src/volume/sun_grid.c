@@ -83,16 +83,7 @@ vbl_result vbl_sun_grid_build(vbl_sun_grid* g, const vbl_extinction* ext, vbl_ve
     if (m < 1) m = 1;
     if (m > 64) m = 64;
     const double wb = vbl_v3_at(w, b) * s / g->h[b], wc = vbl_v3_at(w, c) * s / g->h[c]; /* upstream offset, nodes */
-    for (int ib = 0; ib < g->n[b]; ++ib)
-        for (int ic = 0; ic < g->n[c]; ++ic) {
-            int idx[3];
-            idx[a] = first;
-            idx[b] = ib;
-            idx[c] = ic;
-            const vbl_vec3 x = vbl_v3(lo.x + idx[0] * g->h[0], lo.y + idx[1] * g->h[1], lo.z + idx[2] * g->h[2]);
-            g->T[vbl_sun_grid_index(g, idx)] = occluded && occluded(user, x, w) ? 0.0f : 1.0f;
-        }
-    for (int step = 1; step < g->n[a]; ++step) {
+    for (int step = 0; step < g->n[a]; ++step) { /* step 0: the entry face, T = 1 (0 if blocked) */
         const int ia = first - dir * step, iu = ia + dir;
 #pragma omp parallel num_threads(threads > 0 ? threads : 1)
         {
@@ -106,8 +97,13 @@ vbl_result vbl_sun_grid_build(vbl_sun_grid* g, const vbl_extinction* ext, vbl_ve
                     idx[b] = ib;
                     idx[c] = ic;
                     const vbl_vec3 x = vbl_v3(lo.x + idx[0] * g->h[0], lo.y + idx[1] * g->h[1], lo.z + idx[2] * g->h[2]);
+                    float* node = &g->T[vbl_sun_grid_index(g, idx)];
                     if (occluded && occluded(user, x, w)) {
-                        g->T[vbl_sun_grid_index(g, idx)] = 0.0f;
+                        *node = 0.0f;
+                        continue;
+                    }
+                    if (step == 0) {
+                        *node = 1.0f;
                         continue;
                     }
                     double tau = 0.0;
@@ -133,7 +129,7 @@ vbl_result vbl_sun_grid_build(vbl_sun_grid* g, const vbl_extinction* ext, vbl_ve
                             }
                         up = (1.0 - ub) * ((1.0 - uc) * v[0][0] + uc * v[0][1]) + ub * ((1.0 - uc) * v[1][0] + uc * v[1][1]);
                     }
-                    g->T[vbl_sun_grid_index(g, idx)] = (float)(up * exp(-tau));
+                    *node = (float)(up * exp(-tau));
                 }
         }
     }

@@ -316,5 +316,4 @@ double vbl_transmittance_unbiased_march(const vbl_extinction* ext, vbl_extinctio
         if (!vbl_um_times(&W, f, rr, rng)) return 0.0;
     }
     return W;
-
 }

@@ -195,10 +195,14 @@ static double vbl_pt_shadow_ratio(vbl_vec3 beta, double phase, double ref)
 {
     return 4.0 * VBL_PI * phase * vbl_v3_max_component(beta) / ref;
 }
+/* q clamped to [q_min, 1] (NaN: q_min) */
+static double vbl_pt_survival_clamp(double q, double q_min)
+{
+    return q >= 1.0 ? 1.0 : (q > q_min ? q : q_min);
+}
 static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
 {
-    const double q = vbl_pt_shadow_ratio(beta, phase, ref);
-    return q >= 1.0 ? 1.0 : (q > VBL_PT_SHADOW_RR_MIN ? q : VBL_PT_SHADOW_RR_MIN); /* NaN: the minimum */
+    return vbl_pt_survival_clamp(vbl_pt_shadow_ratio(beta, phase, ref), VBL_PT_SHADOW_RR_MIN);
 }
 
 /* Next-event estimation at the medium vertex at distance t on segment `seg`; rr_ref > 0: the
@@ -229,7 +233,8 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     else if (control && rr_ref > 0.0) { /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c) */
         if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) return;
         const double Tc = vbl_sun_grid_eval(control, x);
-        const double q = vbl_pt_shadow_control_survival(vbl_pt_shadow_ratio(beta, phase, rr_ref));
+        const double q = vbl_pt_survival_clamp(VBL_PT_SHADOW_CONTROL_RR_SCALE * vbl_pt_shadow_ratio(beta, phase, rr_ref),
+                                               VBL_PT_SHADOW_CONTROL_RR_MIN);
         if (q < 1.0 && vbl_rng_uniform(rng) >= q) T = Tc;
         else T = Tc + (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
     } else {

@@ -66,12 +66,4 @@ int vbl_pt_shadow_control_first(const vbl_render_context* ctx);
 void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_split_walk* walk,
                                 vbl_vec3 origin, vbl_vec3 direction, double u, vbl_vec3 beta, vbl_vec3* L);
 
-/* The survival probability of a deep vertex's shadow ray towards a light with a grid, from
- * pt.shadow_roulette's ratio r = 4 pi p max(beta) / max(beta_1). */
-static inline double vbl_pt_shadow_control_survival(double r)
-{
-    const double q = VBL_PT_SHADOW_CONTROL_RR_SCALE * r;
-    return q >= 1.0 ? 1.0 : (q > VBL_PT_SHADOW_CONTROL_RR_MIN ? q : VBL_PT_SHADOW_CONTROL_RR_MIN); /* NaN: min */
-}
-
 #endif
