@@ -157,7 +157,10 @@ static void test_less_spread(void** state)
     vbl_volume* volume;
     vbl_scene* scene = focus_scene(2.0, light_inside, 3.0, 8, 8, &volume);
     double se_on[VBL_CLASS_COUNT], se_off[VBL_CLASS_COUNT];
-    check_agreement(scene, 1, 16, 2, K, se_on, se_off);
+    /* 3K renders: without the focus volume_from_volume's variance is infinite, so its sample spread
+     * over K renders depends on whether a firefly fell in them (the ratio read 0.43-1.18 over four
+     * seed sets at K, 0.09-0.56 at 3K) */
+    check_agreement(scene, 1, 16, 2, 3 * K, se_on, se_off);
     const int layers[2] = {VBL_CLASS_SURFACE_FROM_VOLUME, VBL_CLASS_VOLUME_FROM_VOLUME};
     for (int i = 0; i < 2; ++i) {
         const int l = layers[i];

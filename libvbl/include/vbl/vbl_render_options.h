@@ -251,6 +251,10 @@ typedef enum vbl_render_option_effect {
       "--pt-equiangular-quads", 1, 0, 1, 0, NULL, HASH,                                                      \
       "pt: quad lights join the equiangular NEE (a point on the quad, then equiangular towards it; MIS with " \
       "the collision's NEE and phase sampling)")                                                            \
+    X(pt., pt_equiangular_camera_samples, equiangular_camera_samples, int, INT,                              \
+      "pt.equiangular_camera_samples", "--pt-equiangular-camera-samples", 3, 1, 16, 0, NULL, HASH,           \
+      "pt: equiangular NEE samples on the camera segment, stratified along it, each with the camera "       \
+      "walk's transmittance (pt.camera_split); every other segment takes one")                             \
     X(pt., pt_guided_rr, guided_rr, int, BOOL, "pt.guided_rr", "--pt-guided-rr", 0, 0, 1, 0, NULL, HASH,      \
       "pt: adjoint-driven Russian roulette and splitting from a radiance cache of a deterministic pre-pass " \
       "(Vorba and Krivanek 2016; unbiased)")                                                                \

@@ -446,6 +446,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         if (tight_ctx.tracking.unbiased_march == 2) tight_ctx.tracking.unbiased_march = 3;
         ctx = &tight_ctx;
     }
+    vbl_pt_split_walk walk; /* the camera split's walk (pt_camera_split.h) */
     for (;;) { /* the camera path, then each waiting copy of a split */
     for (;;) {
         const vbl_render_context* nee_ctx = path.events == 0 ? first_ctx : ctx;
@@ -460,6 +461,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         const vbl_vec3 segment_beta = beta; /* the throughput into this segment (the split rescales beta) */
         int segment_estimators = 1; /* the segment's visible lights, direct strata, equiangular NEE */
         int split_end = 0;          /* the split has no part left to trace (after the segment's estimators) */
+        const vbl_pt_split_walk* segment_walk = NULL; /* the camera split's walk along this segment */
         if (resume_surface) { /* pt_camera_split.h: the surface part, weighted by T_end already */
             resume_surface = 0;
             collided = 0;
@@ -475,7 +477,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             split_end = !collided;
             segment_estimators = 0;
         } else if (camera_split && path.events == 0) { /* pt_camera_split.h */
-            vbl_pt_split_walk walk;
+            segment_walk = &walk;
             vbl_emission_visit_state e = {scene, &ts->emission, beta, &out->L[VBL_CLASS_VOLUME_EMISSION]};
             vbl_pt_camera_split_walk(ctx, ts, origin, direction, t_surface, ff ? u_ff[0] : -1.0, beta,
                                      scene->has_emission ? &e : NULL, 1, rng, &walk);
@@ -579,9 +581,18 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
             const vbl_pt_light_focus_vertex next_fv = vbl_pt_light_focus_at_event(focus, next.events);
-            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t,
-                                   !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, rng,
-                                   &out->L[vbl_pt_class(&next)]);
+            /* pt.equiangular_camera_samples: n samples on the camera segment, sample r at the
+             * distance stratum (r + u_t) / n and the light pick rotated by r / n (each uniform, so
+             * the mean of the n estimates is unbiased), each taking its T(t0, t) from the camera
+             * walk's running product (pt_camera_split.h) */
+            const int n_eq = path.events == 0 ? ctx->options.pt.equiangular_camera_samples : 1;
+            const vbl_vec3 eq_beta = vbl_v3_scale(segment_beta, 1.0 / n_eq);
+            for (int r = 0; r < n_eq; ++r) {
+                const double pick = fmod(u_pick + (double)r / n_eq, 1.0);
+                vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, eq_beta, pick, (r + u_t) / n_eq,
+                                       !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, segment_walk, rng,
+                                       &out->L[vbl_pt_class(&next)]);
+            }
         }
         if (split_end) break;
         if (!collided && !on_surface) break; /* escaped */

@@ -47,9 +47,10 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
                               vbl_pt_split_walk* walk)
 {
     const vbl_extinction* ext = ctx->extinction;
-    walk->n = 0;
-    walk->T_end = 1.0;
+    walk->n = walk->n_ratio = walk->capped = 0;
+    walk->T_end = walk->T_after = 1.0;
     walk->t_first = -1.0;
+    walk->t_cap = 0.0;
     double t0, t1;
     if (ext->count == 0 || !vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_surface, &t0, &t1) ||
         !(t1 > t0))
@@ -79,7 +80,10 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
                                                          rng, NULL, &d, &sigma_t, comps,
                                                          emission ? vbl_emission_visit : NULL, emission);
                 if (seek_depth && hit) walk->t_first = d;
-                walk->n = n;
+                walk->n = walk->n_ratio = n;
+                walk->capped = 1;
+                walk->t_cap = t_last;
+                walk->T_after = T;
                 walk->T_end = hit ? 0.0 : T;
                 if (hit) { /* the collision estimator: T^ sigma_s / sigma_t (the store has one spare entry) */
                     double ss = vbl_pt_camera_split_sigma_s(ctx, ts, vbl_v3_madd(origin, direction, d), sigma_t, comps);
@@ -98,7 +102,8 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
             W += T * vbl_pt_camera_split_sigma_s(ctx, ts, p, sigma_t, comps) / mu;
             walk->t[n] = t;
             walk->cum[n] = W;
-            walk->n = ++n;
+            walk->T_before[n] = T;
+            walk->n = walk->n_ratio = ++n;
             t_last = t;
             if (seek_depth && vbl_rng_uniform(rng) * mu < sigma_t) {
                 walk->t_first = t;
@@ -107,13 +112,13 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
             const double f = 1.0 - sigma_t / mu;
             T *= f > 0.0 ? f : 0.0;
             if (!(T > 0.0)) {
-                walk->T_end = 0.0;
+                walk->T_end = walk->T_after = 0.0;
                 if (seek_depth) vbl_pt_split_depth_rest(ctx, ts, origin, direction, t, t1, rng, walk);
                 return;
             }
             if (T < VBL_PT_SPLIT_RR) { /* roulette: survivors carry T^ = threshold (unbiased) */
                 if (vbl_rng_uniform(rng) >= T / VBL_PT_SPLIT_RR) {
-                    walk->T_end = 0.0;
+                    walk->T_end = walk->T_after = 0.0;
                     if (seek_depth) vbl_pt_split_depth_rest(ctx, ts, origin, direction, t, t1, rng, walk);
                     return;
                 }
@@ -121,7 +126,24 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
             }
         }
     }
-    walk->T_end = T;
+    walk->T_end = walk->T_after = T;
+}
+
+double vbl_pt_camera_split_transmittance(const vbl_pt_split_walk* walk, double t, double* t_rest)
+{
+    *t_rest = t;
+    const int n = walk->n_ratio;
+    if (n == 0 || walk->t[n - 1] < t) { /* past every tentative point */
+        if (walk->capped && walk->t_cap < t) *t_rest = walk->t_cap;
+        return walk->T_after;
+    }
+    int lo = 0, hi = n - 1; /* the first point at or past t */
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (walk->t[mid] >= t) hi = mid;
+        else lo = mid + 1;
+    }
+    return walk->T_before[lo];
 }
 
 int vbl_pt_camera_split_pick(const vbl_pt_split_walk* walk, double u)

@@ -31,12 +31,17 @@ int vbl_pt_equiangular_quads_active(const vbl_render_context* ctx)
     return ctx->options.pt.equiangular_quads && vbl_pt_equiangular_active(ctx);
 }
 
+/* The majorant segments' mid-bound optical depth tau_c(t0, t) (volume/control_depth.h). */
+static double vbl_pt_eq_control_depth(const vbl_render_context* ctx, vbl_segment seg, double t)
+{
+    return vbl_control_optical_depth(ctx->extinction, seg.origin, seg.direction, seg.t0, t,
+                                     ctx->tracking.use_global_majorant);
+}
+
 /* Approximate free-flight density (per unit t) at t on the segment, sigma_t exp(-tau_c(t0, t)). */
 static double vbl_pt_eq_ff_density(const vbl_render_context* ctx, vbl_segment seg, double t, double sigma_t)
 {
-    double tau = vbl_control_optical_depth(ctx->extinction, seg.origin, seg.direction, seg.t0, t,
-                                           ctx->tracking.use_global_majorant);
-    return sigma_t * exp(-tau);
+    return sigma_t * exp(-vbl_pt_eq_control_depth(ctx, seg, t));
 }
 
 /* The weight h(a, b) of the strategy with density a; 1 where the other one cannot sample. */
@@ -84,11 +89,10 @@ double vbl_pt_equiangular_ff_weight(const vbl_render_context* ctx, const vbl_lig
  *   phase: the collision times the phase pdf of wi (the scattered ray hits y);
  *   eq: y by the same area sampling (light_pdf), the pick among the N_eq lights, and t
  *       equiangular towards y. */
-static void vbl_pt_eq_quad_densities(const vbl_render_context* ctx, vbl_segment seg, double t, double sigma_t,
+static void vbl_pt_eq_quad_densities(const vbl_render_context* ctx, vbl_segment seg, double t, double ff,
                                      vbl_vec3 y, double light_pdf, double phase_pdf, double* nee, double* phase,
                                      double* eq)
 {
-    double ff = vbl_pt_eq_ff_density(ctx, seg, t, sigma_t);
     *nee = ff * light_pdf / ctx->scene->light_count;
     *phase = ff * phase_pdf;
     *eq = vbl_equiangular_pdf(seg.origin, seg.direction, seg.t0, seg.t1, y, t) / vbl_pt_eq_light_count(ctx) * light_pdf;
@@ -108,7 +112,8 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
         phase = phase_pdf;
         eq = 0.0;
     } else {
-        vbl_pt_eq_quad_densities(ctx, seg, v->t, v->sigma_t, vbl_v3_madd(x, wi, distance), light_pdf, phase_pdf,
+        vbl_pt_eq_quad_densities(ctx, seg, v->t, vbl_pt_eq_ff_density(ctx, seg, v->t, v->sigma_t),
+                                 vbl_v3_madd(x, wi, distance), light_pdf, phase_pdf,
                                  &nee, &phase, &eq);
     }
     if (strategy == VBL_PT_EQ_NEE) return vbl_pt_eq_weight3(h, nee, phase, eq);
@@ -117,8 +122,8 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
 
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data, vbl_rng* rng,
-                            vbl_vec3* L)
+                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
+                            const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
@@ -156,14 +161,20 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     double cos_theta = vbl_v3_dot(direction, ls.wi);
     vbl_vec3 kernel = vbl_medium_phase_kernel(&mp, cos_theta);
     if (!(vbl_v3_max_component(kernel) > 0.0)) return;
-    double T_camera = vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, seg.t0, t, &ctx->tracking, rng);
+    double T_camera, t_rest = seg.t0; /* the walk's running product up to t_rest, then an estimate */
+    /* the walk's product where the segment is thin (a deterministic choice of (segment, t): unbiased) */
+    const double tau_c = vbl_pt_eq_control_depth(ctx, seg, t);
+    if (!(tau_c < VBL_PT_EQ_WALK_DEPTH)) walk = NULL;
+    T_camera = walk ? vbl_pt_camera_split_transmittance(walk, t, &t_rest) : 1.0;
+    if (T_camera != 0.0 && t_rest < t)
+        T_camera *= vbl_transmittance_estimate(ext, &ts->cursor, origin, direction, t_rest, t, &ctx->tracking, rng);
     if (T_camera == 0.0) return; /* negative estimates kept (unbiased) */
     double T_light = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng);
     if (T_light == 0.0) return;
     double q, w;
     if (quad) {
         double nee, phase, eq;
-        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t, target, ls.pdf,
+        vbl_pt_eq_quad_densities(ctx, seg, t, sigma_t * exp(-tau_c), target, ls.pdf,
                                  !phase_traced ? 0.0
                                  : dir_pdf   ? dir_pdf(dir_pdf_data, &mp, x, direction, ls.wi)
                                              : vbl_medium_phase_pdf(&mp, cos_theta),
@@ -173,7 +184,7 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
         w = vbl_pt_eq_weight3(ctx->options.mis, eq, nee, phase);
     } else {
         q = pdf_t / n_eq;
-        w = vbl_pt_eq_weight(ctx->options.mis, q, vbl_pt_eq_ff_density(ctx, seg, t, sigma_t) / scene->light_count);
+        w = vbl_pt_eq_weight(ctx->options.mis, q, sigma_t * exp(-tau_c) / scene->light_count);
     }
     double s = T_camera * T_light * w / q;
     if (!isfinite(s)) return;

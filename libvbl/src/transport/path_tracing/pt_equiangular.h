@@ -11,7 +11,10 @@
  * equiangularly towards a point/spot light picked uniformly among the N_eq such lights, with T(t0, t)
  * estimated by the render's transmittance estimator (ratio tracking: the product of (1 - sigma_t /
  * majorant) over tentative collisions, Novak et al. 2014, eq. 6) and sigma_t(t) looked up, so the
- * heterogeneous medium enters through the real/majorant density ratios, unbiased. The MIS weights
+ * heterogeneous medium enters through the real/majorant density ratios, unbiased. On the camera
+ * segment (pt.equiangular_camera_samples) pt draws n distances, one per stratum of the
+ * equiangular CDF, each weighted 1/n, and T(t0, t) is the camera walk's running product where
+ * the segment is thin (VBL_PT_EQ_WALK_DEPTH): no march there. The MIS weights
  * use q_ff(i, t) = sigma_t(t) exp(-tau_c(t0, t)) / N with tau_c the majorant segments' mid-bound
  * optical depth (volume/control_depth.h; exact in homogeneous media) and q_ea(i, t) = p_ea,i(t) /
  * N_eq: both are deterministic functions of (segment, i, t) and w_ff + w_ea = 1 wherever either
@@ -35,6 +38,7 @@
 
 #include "transport/common/emission_estimate.h"
 #include "transport/common/estimator.h"
+#include "transport/path_tracing/pt_camera_split.h"
 
 /* 1 if options select equiangular NEE and the scene has a point or spot light (or a quad light
  * with pt.equiangular_quads) and media. */
@@ -58,15 +62,28 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
                                       const vbl_pt_eq_vertex* v, vbl_vec3 wi, double distance, double phase_pdf,
                                       int strategy);
 
+/* The camera walk's running product stands for T(t0, t) where the majorant segments' control
+ * optical depth tau_c(t0, t) is below this, a march estimates it elsewhere. The walk (ratio
+ * tracking at 8x the majorant, roulette below T^ = 0.1) has relative variance ~ exp(tau / 8) - 1
+ * until its roulette, ~ 0.1 / T past it: in thin smoke it is as good as the march and costs
+ * nothing, deep in a dense medium it is several times worse (bench/pt_ab, session 16:
+ * race_dense_point volume_direct 0.58 with the walk everywhere against 0.18 with the march; 0.18 at
+ * 1.5; race_room and smoky_lambert_room_thin keep the walk's gain). The choice depends only on
+ * (segment, t), so each estimate stays unbiased. */
+#define VBL_PT_EQ_WALK_DEPTH 1.5
+
 /* The equiangular sample of one segment: adds w_ea K L T T_l / (p_ea / N_eq) * beta into *L.
  * t_surface: where the segment ends (INFINITY: escapes). u_pick picks the light, u_t the distance
  * (the caller draws both, whatever follows, so later dimensions keep their place); the
  * transmittance estimates draw from rng. phase_traced = 0 where the sampled vertex is the path's
- * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies. */
+ * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies.
+ * walk: the camera split's walk along this segment (the camera segment; else NULL): T(t0, t) is
+ * its running product where tau_c(t0, t) < VBL_PT_EQ_WALK_DEPTH (times a march of the rest past
+ * a capped walk), else the march's. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data, vbl_rng* rng,
-                            vbl_vec3* L);
+                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
+                            const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
  * (origin, direction, t_surface) when it picked `light`: 1 unless the light is a point/spot light
