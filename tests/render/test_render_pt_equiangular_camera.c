@@ -49,19 +49,18 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
     return render_or_fail(scene, &o);
 }
 
-/* A walk with points at t = 1, 2, 3 and the products before them 1, 0.5, 0.25. */
-static vbl_pt_split_walk three_points(double T_after, int capped)
+/* A walk with n tentative points at t = 1, 2, ..., n and the products before them 1, 1/2, 1/4, ... */
+static vbl_pt_split_walk walk_points(int n, double T_after, int capped)
 {
     vbl_pt_split_walk w;
     memset(&w, 0, sizeof w);
-    w.n = w.n_ratio = 3;
-    for (int i = 0; i < 3; ++i) {
+    w.n = n;
+    for (int i = 0; i < n; ++i) {
         w.t[i] = 1.0 + i;
         w.T_before[i] = ldexp(1.0, -i);
     }
     w.T_after = T_after;
     w.capped = capped;
-    w.t_cap = capped ? 3.0 : 0.0;
     return w;
 }
 
@@ -69,18 +68,23 @@ static void test_walk_product(void** state)
 {
     (void)state;
     double rest;
-    vbl_pt_split_walk w = three_points(0.125, 0);
+    vbl_pt_split_walk w = walk_points(3, 0.125, 0);
     assert_true(vbl_pt_camera_split_transmittance(&w, 0.5, &rest) == 1.0 && rest == 0.5); /* before the first */
     assert_true(vbl_pt_camera_split_transmittance(&w, 1.5, &rest) == 0.5 && rest == 1.5);
     assert_true(vbl_pt_camera_split_transmittance(&w, 2.0, &rest) == 0.5); /* a point's own factor comes after it */
     assert_true(vbl_pt_camera_split_transmittance(&w, 2.5, &rest) == 0.25);
     assert_true(vbl_pt_camera_split_transmittance(&w, 9.0, &rest) == 0.125 && rest == 9.0); /* past the last */
-    w = three_points(0.0, 0); /* the roulette ended the walk at its last point */
+    w = walk_points(3, 0.0, 0); /* the roulette ended the walk at its last point */
     assert_true(vbl_pt_camera_split_transmittance(&w, 3.5, &rest) == 0.0);
     assert_true(vbl_pt_camera_split_transmittance(&w, 2.5, &rest) == 0.25);
-    w = three_points(0.125, 1); /* capped at t = 3: the rest (3, t] is the caller's */
+    /* capped at its last tentative point, t = VBL_PT_SPLIT_POINTS: the rest (cap, t] is the caller's;
+     * the delta-tracking collision stored after the points (entry n - 1) is not one of them */
+    const int cap = VBL_PT_SPLIT_POINTS;
+    w = walk_points(cap, 0.125, 1);
+    w.n = cap + 1;
+    w.t[cap] = cap + 50.0;
     assert_true(vbl_pt_camera_split_transmittance(&w, 2.5, &rest) == 0.25 && rest == 2.5);
-    assert_true(vbl_pt_camera_split_transmittance(&w, 5.0, &rest) == 0.125 && rest == 3.0);
+    assert_true(vbl_pt_camera_split_transmittance(&w, cap + 10.0, &rest) == 0.125 && rest == cap);
     memset(&w, 0, sizeof w); /* no points: nothing in the way */
     w.T_after = 1.0;
     assert_true(vbl_pt_camera_split_transmittance(&w, 1.0, &rest) == 1.0 && rest == 1.0);

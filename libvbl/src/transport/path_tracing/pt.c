@@ -581,18 +581,12 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             vbl_pt_u2(&dims, VBL_PT_PAIR_EQUIANGULAR, path.events, rng, &u_pick, &u_t);
             const int next_last = max_bounces >= 0 && path.events + 1 >= max_bounces; /* no phase sample there */
             const vbl_pt_light_focus_vertex next_fv = vbl_pt_light_focus_at_event(focus, next.events);
-            /* pt.equiangular_camera_samples: n samples on the camera segment, sample r at the
-             * distance stratum (r + u_t) / n and the light pick rotated by r / n (each uniform, so
-             * the mean of the n estimates is unbiased), each taking its T(t0, t) from the camera
-             * walk's running product (pt_camera_split.h) */
+            /* pt.equiangular_camera_samples: n stratified samples on the camera segment, each
+             * taking its T(t0, t) from the camera walk's running product (pt_equiangular.h) */
             const int n_eq = path.events == 0 ? ctx->options.pt.equiangular_camera_samples : 1;
-            const vbl_vec3 eq_beta = vbl_v3_scale(segment_beta, 1.0 / n_eq);
-            for (int r = 0; r < n_eq; ++r) {
-                const double pick = fmod(u_pick + (double)r / n_eq, 1.0);
-                vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, eq_beta, pick, (r + u_t) / n_eq,
-                                       !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, segment_walk, rng,
-                                       &out->L[vbl_pt_class(&next)]);
-            }
+            vbl_pt_equiangular_nee(nee_ctx, ts, origin, direction, t_surface, segment_beta, u_pick, u_t, n_eq,
+                                   !next_last, vbl_pt_light_focus_medium_pdf_fn, &next_fv, segment_walk, rng,
+                                   &out->L[vbl_pt_class(&next)]);
         }
         if (split_end) break;
         if (!collided && !on_surface) break; /* escaped */

@@ -47,10 +47,9 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
                               vbl_pt_split_walk* walk)
 {
     const vbl_extinction* ext = ctx->extinction;
-    walk->n = walk->n_ratio = walk->capped = 0;
+    walk->n = walk->capped = 0;
     walk->T_end = walk->T_after = 1.0;
     walk->t_first = -1.0;
-    walk->t_cap = 0.0;
     double t0, t1;
     if (ext->count == 0 || !vbl_extinction_ray_bounds(ext, origin, direction, 0.0, t_surface, &t0, &t1) ||
         !(t1 > t0))
@@ -80,9 +79,8 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
                                                          rng, NULL, &d, &sigma_t, comps,
                                                          emission ? vbl_emission_visit : NULL, emission);
                 if (seek_depth && hit) walk->t_first = d;
-                walk->n = walk->n_ratio = n;
+                walk->n = n;
                 walk->capped = 1;
-                walk->t_cap = t_last;
                 walk->T_after = T;
                 walk->T_end = hit ? 0.0 : T;
                 if (hit) { /* the collision estimator: T^ sigma_s / sigma_t (the store has one spare entry) */
@@ -103,7 +101,7 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
             walk->t[n] = t;
             walk->cum[n] = W;
             walk->T_before[n] = T;
-            walk->n = walk->n_ratio = ++n;
+            walk->n = ++n;
             t_last = t;
             if (seek_depth && vbl_rng_uniform(rng) * mu < sigma_t) {
                 walk->t_first = t;
@@ -132,9 +130,9 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
 double vbl_pt_camera_split_transmittance(const vbl_pt_split_walk* walk, double t, double* t_rest)
 {
     *t_rest = t;
-    const int n = walk->n_ratio;
+    const int n = walk->capped ? VBL_PT_SPLIT_POINTS : walk->n; /* the tentative points */
     if (n == 0 || walk->t[n - 1] < t) { /* past every tentative point */
-        if (walk->capped && walk->t_cap < t) *t_rest = walk->t_cap;
+        if (walk->capped) *t_rest = walk->t[n - 1];
         return walk->T_after;
     }
     int lo = 0, hi = n - 1; /* the first point at or past t */

@@ -53,10 +53,11 @@ typedef struct vbl_pt_split_walk {
     double T_end;
     double t[VBL_PT_SPLIT_POINTS + 1], cum[VBL_PT_SPLIT_POINTS + 1];
     /* the running ratio-tracking product (vbl_pt_camera_split_transmittance): T_before[i] before
-     * tentative point i < n_ratio, T_after past the last of them; capped: the walk stopped at
-     * VBL_PT_SPLIT_POINTS points at t_cap and went on by delta tracking */
-    int n_ratio, capped;
-    double T_after, t_cap;
+     * tentative point i, T_after past the last of them; capped: the walk stopped at
+     * VBL_PT_SPLIT_POINTS points (the last at t[VBL_PT_SPLIT_POINTS - 1]) and went on by delta
+     * tracking, whose collision may be entry n - 1 (not a tentative point) */
+    int capped;
+    double T_after;
     double T_before[VBL_PT_SPLIT_POINTS];
 } vbl_pt_split_walk;
 
@@ -78,9 +79,9 @@ void vbl_pt_camera_split_walk(const vbl_render_context* ctx, vbl_thread_state* t
  * the running product of the factors 1 - sigma_t / mu of the tentative points before t, with the
  * walk's roulette (ratio tracking, Novak et al. 2014, eq. 6). For any t chosen independently of
  * the walk it is unbiased for T(t0, t); it costs no lookup. Where the walk was capped before t,
- * *t_rest = t_cap < t and the result is the product up to t_cap, which the caller multiplies by an
- * independent estimate of T(t_cap, t) (unbiased: the running product times the rest's
- * transmittance is a martingale in the stopping point); else *t_rest = t. */
+ * *t_rest = t_c < t, its last tentative point, and the result is the product up to t_c, which the
+ * caller multiplies by an independent estimate of T(t_c, t) (unbiased: the running product times
+ * the rest's transmittance is a martingale in the stopping point); else *t_rest = t. */
 double vbl_pt_camera_split_transmittance(const vbl_pt_split_walk* walk, double t, double* t_rest);
 
 /* The candidate picked by u in [0, 1): index i with cum[i - 1] <= u W < cum[i] (binary search);

@@ -120,16 +120,14 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
     return vbl_pt_eq_weight3(h, phase, nee, eq);
 }
 
-void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
-                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
-                            const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L)
+/* One equiangular sample on the segment's media interval seg (vbl_pt_equiangular_nee). */
+static void vbl_pt_eq_sample(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_segment seg, int n_eq,
+                             vbl_vec3 beta, double u_pick, double u_t, int phase_traced, vbl_medium_pdf_fn dir_pdf,
+                             const void* dir_pdf_data, const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L)
 {
     const vbl_scene* scene = ctx->scene;
     const vbl_extinction* ext = ctx->extinction;
-    const int n_eq = vbl_pt_eq_light_count(ctx);
-    vbl_segment seg;
-    if (!vbl_pt_eq_bounds(ctx, origin, direction, t_surface, &seg)) return;
+    const vbl_vec3 origin = seg.origin, direction = seg.direction;
     int k = (int)(u_pick * n_eq);
     if (k >= n_eq) k = n_eq - 1;
     const vbl_light* light = NULL;
@@ -191,4 +189,20 @@ void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts,
     L->x += beta.x * kernel.x * ls.li.x * s;
     L->y += beta.y * kernel.y * ls.li.y * s;
     L->z += beta.z * kernel.z * ls.li.z * s;
+}
+
+void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
+                            vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
+                            int samples, int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
+                            const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L)
+{
+    vbl_segment seg;
+    if (!vbl_pt_eq_bounds(ctx, origin, direction, t_surface, &seg)) return;
+    const int n_eq = vbl_pt_eq_light_count(ctx);
+    /* sample r at the distance stratum (r + u_t) / n and the light pick rotated by r / n: each
+     * uniform, so the mean of the n estimates is unbiased */
+    const vbl_vec3 b = vbl_v3_scale(beta, 1.0 / samples);
+    for (int r = 0; r < samples; ++r)
+        vbl_pt_eq_sample(ctx, ts, seg, n_eq, b, fmod(u_pick + (double)r / samples, 1.0), (r + u_t) / samples,
+                         phase_traced, dir_pdf, dir_pdf_data, walk, rng, L);
 }

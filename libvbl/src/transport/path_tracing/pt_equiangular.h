@@ -77,12 +77,15 @@ double vbl_pt_equiangular_quad_weight(const vbl_render_context* ctx, const vbl_l
  * (the caller draws both, whatever follows, so later dimensions keep their place); the
  * transmittance estimates draw from rng. phase_traced = 0 where the sampled vertex is the path's
  * last (max_bounces): no phase direction is traced from it, so a quad's MIS has two strategies.
+ * samples (>= 1): that many samples, one per stratum (r + u_t) / samples of the equiangular CDF with
+ * the light pick rotated by r / samples, each weighted 1 / samples (the media interval and the
+ * light count computed once for them; pt.equiangular_camera_samples on the camera segment).
  * walk: the camera split's walk along this segment (the camera segment; else NULL): T(t0, t) is
  * its running product where tau_c(t0, t) < VBL_PT_EQ_WALK_DEPTH (times a march of the rest past
  * a capped walk), else the march's. */
 void vbl_pt_equiangular_nee(const vbl_render_context* ctx, vbl_thread_state* ts, vbl_vec3 origin,
                             vbl_vec3 direction, double t_surface, vbl_vec3 beta, double u_pick, double u_t,
-                            int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
+                            int samples, int phase_traced, vbl_medium_pdf_fn dir_pdf, const void* dir_pdf_data,
                             const vbl_pt_split_walk* walk, vbl_rng* rng, vbl_vec3* L);
 
 /* MIS weight of the free-flight collision NEE at distance t (sigma_t there) on the segment
