@@ -7,6 +7,7 @@
  * every file it writes (render_output.c), so the file on disk always holds every pass done. */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -15,6 +16,12 @@
 #include "render_cli.h"
 
 static volatile sig_atomic_t vbl_render_signalled = 0;
+/* Set by the first signal's handler, atomically: SIGINT and SIGTERM delivered at once can run
+ * their handlers in two threads together (the render's OpenMP workers take signals too), and a
+ * plain read-then-set let both see "first" and neither abort (test_pipeline_robust's
+ * test_second_sigint_aborts failed once in CI that way). A lock-free atomic_flag is
+ * async-signal-safe (C11 7.17.8). */
+static atomic_flag vbl_render_signal_seen = ATOMIC_FLAG_INIT;
 /* The library's cancel flag (vbl_render_options.cancel): the pass in progress stops at its next
  * pixel and is dropped, so SIGINT/SIGTERM end a render within a pixel's time, not a pass's. */
 static volatile int vbl_render_cancel_flag = 0;
@@ -25,7 +32,7 @@ static void vbl_render_on_signal(int sig)
     (void)sig;
     /* A second signal aborts at once. Outputs are written to a temporary name and renamed, so the
      * output stays the last complete file (a temporary ".<name>.tmp-XXXXXX" may remain). */
-    if (vbl_render_signalled) _exit(VBL_EXIT_INTERRUPTED);
+    if (atomic_flag_test_and_set(&vbl_render_signal_seen)) _exit(VBL_EXIT_INTERRUPTED);
     vbl_render_signalled = 1;
     vbl_render_cancel_flag = 1;
 }
@@ -38,6 +45,7 @@ void vbl_render_signals(int install)
         sa.sa_handler = vbl_render_on_signal;
         sigemptyset(&sa.sa_mask);
         vbl_render_signalled = 0;
+        atomic_flag_clear(&vbl_render_signal_seen);
         vbl_render_cancel_flag = 0;
         sigaction(SIGINT, &sa, &vbl_render_old_int);
         sigaction(SIGTERM, &sa, &vbl_render_old_term);
