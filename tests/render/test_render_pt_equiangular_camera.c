@@ -10,8 +10,9 @@
  *     estimator before this option (one sample, pt.camera_split off: T by the march); in a thin
  *     sphere lit by a point light inside it, volume_direct's mean agrees with that estimator and
  *     its standard error with 3 samples falls below SE_MAX x one sample's (both with the walk);
- *   - agreement group (slow): a dense sphere around the light, where most walks end in their
- *     roulette before the far side (T^ = 0 past that point) and the walk's product is the only T. */
+ *     and a dense sphere around the light, where most walks end in their roulette before the far
+ *     side (T^ = 0 past that point) and the walk's product is the only T (2 s, so in the quick
+ *     group since session 17: it is the one case that exercises the product after a roulette). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -166,7 +167,7 @@ static void test_dense_lamp_agrees(void** state)
     vt_free(volume);
 }
 
-int main(int argc, char** argv)
+int main(void)
 {
     const struct CMUnitTest quick[] = {
         cmocka_unit_test(test_walk_product),
@@ -174,10 +175,7 @@ int main(int argc, char** argv)
         cmocka_unit_test(test_finite_at_extremes),
         cmocka_unit_test(test_surfaces_agree),
         cmocka_unit_test(test_lamp_volume_direct),
-    };
-    const struct CMUnitTest agreement[] = {
         cmocka_unit_test(test_dense_lamp_agrees),
     };
-    if (argc > 1 && strcmp(argv[1], "agreement") == 0) return cmocka_run_group_tests(agreement, NULL, NULL);
     return cmocka_run_group_tests(quick, NULL, NULL);
 }
