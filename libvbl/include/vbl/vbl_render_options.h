@@ -273,6 +273,11 @@ typedef enum vbl_render_option_effect {
       "the camera walk's single scattering sums it over the walk's points and the forced point's shadow "   \
       "ray estimates T - T_c; pt.shadow_roulette returns T_c where it stops a ray, survival 1/4 of its own, " \
       "at least 0.01 (unbiased)")                                                                            \
+    X(pt., pt_shadow_control_flight, shadow_control_flight, int, BOOL, "pt.shadow_control_flight",            \
+      "--pt-shadow-control-flight", 1, 0, 1, 0, NULL, HASH,                                                 \
+      "pt.shadow_control at the vertices after the first scattering event: the control's single "          \
+      "scattering summed over the free flight's tentative collisions (escaping flights too), the "         \
+      "collision's shadow ray estimating T - T_c (one medium of constant albedo; unbiased)")               \
     X(pt., pt_light_focus, light_focus, double, DOUBLE, "pt.light_focus", "--pt-light-focus", 0.25, 0, 0.5, \
       0, NULL, HASH,                                                                                         \
       "pt: share of scattered directions (at surfaces and at the first 4 medium events) drawn from cones "  \

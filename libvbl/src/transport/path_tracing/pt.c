@@ -211,8 +211,8 @@ static double vbl_pt_shadow_survival(vbl_vec3 beta, double phase, double ref)
 static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_segment* seg,
                                      double t, double sigma_t, const vbl_medium_point* mp, const vbl_pt_path* path,
                                      const vbl_pt_dims* dims, int last, double rr_ref,
-                                     const vbl_pt_light_focus_vertex* fv, int control_first, vbl_vec3 beta,
-                                     vbl_rng* rng, vbl_sample_value* out)
+                                     const vbl_pt_light_focus_vertex* fv, int control_first, int segment_control,
+                                     vbl_vec3 beta, vbl_rng* rng, vbl_sample_value* out)
 {
     const vbl_scene* scene = ctx->scene;
     vbl_vec3 x = vbl_v3_madd(seg->origin, seg->travel, t), travel = seg->travel;
@@ -230,7 +230,19 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     const vbl_sun_grid* control = vbl_pt_shadow_control_of(ctx, light); /* pt.shadow_control */
     if (control && control_first && path->events == 1) /* vbl_pt_shadow_control_walk added T_c's part */
         T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) - vbl_sun_grid_eval(control, x);
-    else if (control && rr_ref > 0.0) { /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c) */
+    else if (control && segment_control) { /* the flight summed T_c's part (pt.shadow_control_flight) */
+        const double Tc = vbl_sun_grid_eval(control, x);
+        if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) {
+            T = -Tc; /* T = 0 exactly: no roulette needed */
+        } else {
+            const double q = rr_ref > 0.0 ? vbl_pt_survival_clamp(VBL_PT_SHADOW_CONTROL_RR_SCALE *
+                                                                      vbl_pt_shadow_ratio(beta, phase, rr_ref),
+                                                                  VBL_PT_SHADOW_CONTROL_RR_MIN)
+                                          : 1.0;
+            if (q < 1.0 && vbl_rng_uniform(rng) >= q) return;
+            T = (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
+        }
+    } else if (control && rr_ref > 0.0) { /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c) */
         if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) return;
         const double Tc = vbl_sun_grid_eval(control, x);
         const double q = vbl_pt_survival_clamp(VBL_PT_SHADOW_CONTROL_RR_SCALE * vbl_pt_shadow_ratio(beta, phase, rr_ref),
@@ -360,6 +372,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
     const int direct_strata = vbl_pt_direct_strata_active(ctx);
     const int camera_split = vbl_pt_camera_split_active(ctx);
     const int control_first = vbl_pt_shadow_control_first(ctx); /* pt.shadow_control at the walk */
+    const int control_flight = vbl_pt_shadow_control_flight_active(ctx); /* ... and along deeper flights */
     /* pt.split_behind_march: the camera split's surface or background part weighted by its own
      * estimate of the segment's T, with surface_first_ctx's tracking (the camera-visible surface's
      * march density), instead of the walk's ratio-tracking product: the walk's noise was most of
@@ -462,6 +475,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
         int segment_estimators = 1; /* the segment's visible lights, direct strata, equiangular NEE */
         int split_end = 0;          /* the split has no part left to trace (after the segment's estimators) */
         const vbl_pt_split_walk* segment_walk = NULL; /* the camera split's walk along this segment */
+        int segment_control = 0; /* pt.shadow_control_flight summed this flight's control part */
         if (resume_surface) { /* pt_camera_split.h: the surface part, weighted by T_end already */
             resume_surface = 0;
             collided = 0;
@@ -552,19 +566,39 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
                 if (on_surface && walk.T_end == 0.0) split_end = 1; /* nothing reaches the surface */
                 beta = vbl_v3_scale(beta, walk.T_end);
             }
-        } else if (scene->has_emission) {
-            /* after a scattering event with emission NEE on, this strategy's MIS weight */
-            double w = 1.0;
-            if (path.events > 0 && emission_nee)
-                w = vbl_mis_weight(ctx->options.mis, prev_pdf,
-                                   vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
-            vbl_emission_visit_state e = {scene, &ts->emission, vbl_v3_scale(beta, w),
-                                          &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
-            collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
-                                                   components, vbl_emission_visit, &e);
         } else {
+            vbl_tracking_visit visit = NULL;
+            void* visit_user = NULL;
+            vbl_emission_visit_state e;
+            if (scene->has_emission) {
+                /* after a scattering event with emission NEE on, this strategy's MIS weight */
+                double w = 1.0;
+                if (path.events > 0 && emission_nee)
+                    w = vbl_mis_weight(ctx->options.mis, prev_pdf,
+                                       vbl_emission_lights_pdf(&scene->emission_lights, vertex, direction));
+                e = (vbl_emission_visit_state){
+                    scene, &ts->emission, vbl_v3_scale(beta, w),
+                    &out->L[path.events <= 0 ? VBL_CLASS_VOLUME_EMISSION : vbl_pt_class(&path)]};
+                visit = vbl_emission_visit;
+                visit_user = &e;
+            }
+            /* pt.shadow_control_flight: the control's part of the NEE at the vertex this flight
+             * reaches, summed over its tentative collisions (pt_shadow_control.h); that vertex's
+             * shadow ray then estimates T - T_c. Its class as the NEE's own (render.hybrid); no
+             * bounce limit to check: a path stops at its last vertex, so a flight always reaches
+             * a vertex it keeps. */
+            vbl_pt_path reached = path;
+            vbl_pt_vertex(&reached, 0);
+            vbl_pt_control_flight cf;
+            segment_control = control_flight && path.events >= 1 && vbl_ctx_wants(ctx, vbl_pt_class(&reached));
+            if (segment_control) {
+                vbl_pt_control_flight_begin(&cf, ctx, direction, visit, visit_user);
+                visit = vbl_pt_control_flight_visit;
+                visit_user = &cf;
+            }
             collided = vbl_ctx_free_flight_pattern(ctx, ts, origin, direction, t_surface, rng, ff, &t, &sigma_t,
-                                                   components, NULL, NULL);
+                                                   components, visit, visit_user);
+            if (segment_control) vbl_pt_control_flight_end(&cf, beta, &out->L[vbl_pt_class(&reached)]);
         }
         double t_limit = collided ? t : t_surface;
         if (segment_estimators == 1)
@@ -612,7 +646,7 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
             /* pt.light_focus: this vertex's directions (and every MIS weight using their density) */
             const vbl_pt_light_focus_vertex fv = vbl_pt_light_focus_at_event(focus, path.events);
             vbl_pt_next_event_medium(nee_ctx, ts, &seg, t, sigma_t, &mp, &path, &dims, last, shadow_rr, &fv,
-                                     control_first, beta, rng, out);
+                                     control_first, segment_control, beta, rng, out);
             if (scene->has_emission && emission_nee)
                 vbl_emission_nee_medium(ctx, ts, x, direction, sigma_t, &mp, last, vbl_pt_light_focus_medium_pdf_fn,
                                         &fv, beta, rng, &out->L[vbl_pt_class(&path)]);

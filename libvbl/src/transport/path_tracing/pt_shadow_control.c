@@ -118,3 +118,55 @@ void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state*
         }
     }
 }
+
+int vbl_pt_shadow_control_flight_active(const vbl_render_context* ctx)
+{
+    if (!ctx->sun_grids || !ctx->options.pt.shadow_control_flight || !ctx->options.pt.shadow_roulette) return 0;
+    for (int c = 0; c < ctx->extinction->count; ++c)
+        if (ctx->scene->media[c].albedo_volume[0]) return 0;
+    return ctx->extinction->count > 0;
+}
+
+void vbl_pt_control_flight_begin(vbl_pt_control_flight* f, const vbl_render_context* ctx, vbl_vec3 direction,
+                                 vbl_tracking_visit next, void* next_user)
+{
+    const vbl_scene* scene = ctx->scene;
+    f->media = ctx->extinction->count;
+    f->count = 0;
+    f->sum = vbl_v3(0.0, 0.0, 0.0);
+    f->next = next;
+    f->next_user = next_user;
+    for (int l = 0; l < scene->light_count; ++l) {
+        const vbl_sun_grid* g = vbl_pt_shadow_control_of(ctx, &scene->lights[l]);
+        if (!g) continue;
+        /* the collision's NEE kernel over sigma_c (vbl_medium_phase_kernel's lobe c), times L_i */
+        const double cos_l = vbl_v3_dot(direction, g->w);
+        for (int c = 0; c < f->media; ++c) {
+            const vbl_medium* m = &scene->media[c];
+            f->kernel[f->count][c] = vbl_v3_scale(vbl_v3_mul(m->albedo, scene->lights[l].color), vbl_hg_eval(m->g, cos_l));
+        }
+        f->grid[f->count++] = g;
+    }
+}
+
+void vbl_pt_control_flight_visit(void* user, vbl_vec3 p, double mu, const double* per_component)
+{
+    vbl_pt_control_flight* f = user;
+    if (f->next) f->next(f->next_user, p, mu, per_component);
+    if (!(mu > 0.0)) return;
+    for (int l = 0; l < f->count; ++l) {
+        const double Tc = vbl_sun_grid_eval(f->grid[l], p);
+        if (!(Tc > 0.0)) continue;
+        for (int c = 0; c < f->media; ++c) {
+            const double r = per_component[c] / mu; /* sigma_c / mu, in [0, 1]: mu bounds the sum */
+            if (r > 0.0) f->sum = vbl_v3_madd(f->sum, f->kernel[l][c], r * Tc);
+        }
+    }
+}
+
+void vbl_pt_control_flight_end(const vbl_pt_control_flight* f, vbl_vec3 beta, vbl_vec3* L)
+{
+    L->x += beta.x * f->sum.x;
+    L->y += beta.y * f->sum.y;
+    L->z += beta.z * f->sum.z;
+}

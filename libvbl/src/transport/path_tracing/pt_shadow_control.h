@@ -14,7 +14,15 @@
  *    estimate is T_c instead of 0, and a traced ray's T^ enters as T_c + (T^ - T_c) / q (Russian
  *    roulette on the difference to a control). The roulette's added variance falls from
  *    ~T^2 (1 - q) / q to ~E[(T^ - T_c)^2] (1 - q) / q, so it stops more rays: survival
- *    VBL_PT_SHADOW_CONTROL_RR_SCALE x pt.shadow_roulette's, at least VBL_PT_SHADOW_CONTROL_RR_MIN.
+ *    VBL_PT_SHADOW_CONTROL_RR_SCALE x pt.shadow_roulette's, at least VBL_PT_SHADOW_CONTROL_RR_MIN;
+ *  - with pt.shadow_control_flight, the T_c part of those deeper vertices moves from the collision
+ *    to the free flight that reached it: the control's single scattering along the segment,
+ *    int_0^end T(t) sigma_s(t) f L T_c(t) dt, is summed over the flight's tentative collisions,
+ *    each adding sigma_s(p_j) f L T_c(p_j) / mu_j (delta tracking's points are Poisson at rate mu
+ *    and point t_j is reached with probability T(0, t_j): the track-length form of the collision
+ *    estimator, cf. Novak et al. 2018, sec. 5.2), escaping flights included; the collision's shadow
+ *    ray then estimates only T - T_c (roulette as above, 0 where stopped). A flight that leaves a
+ *    cloud through its lit skin without colliding now adds the light it passed.
  * Measured in docs/readme/sampling.md ("A control variate for shadow rays towards distant lights"). */
 #ifndef VBL_PT_SHADOW_CONTROL_H
 #define VBL_PT_SHADOW_CONTROL_H
@@ -65,5 +73,33 @@ int vbl_pt_shadow_control_first(const vbl_render_context* ctx);
  * (u uniform in [0, 1); the medium's lookups through ts). */
 void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_split_walk* walk,
                                 vbl_vec3 origin, vbl_vec3 direction, double u, vbl_vec3 beta, vbl_vec3* L);
+
+/* pt.shadow_control_flight: 1 if the option, pt.shadow_control's grids and pt.shadow_roulette are
+ * on and every medium has a constant albedo (the NEE kernel at a point is then sum_c sigma_c(p) x
+ * a per-segment constant, from the flight's own lookups; with an albedo grid the collision keeps
+ * the control as above). */
+int vbl_pt_shadow_control_flight_active(const vbl_render_context* ctx);
+
+/* The flight's state: per medium c and distant light l with a grid, the kernel albedo_c x colour_l
+ * x HG(g_c, cos_l) (constant along the segment), and per light the sum over the tentative
+ * collisions of sum_c k_cl sigma_c / mu x T_c,l (RGB); `next` (may be NULL) is another visitor the
+ * flight also feeds (volume emission). */
+typedef struct vbl_pt_control_flight {
+    int media, count;
+    const vbl_sun_grid* grid[VBL_PT_SHADOW_CONTROL_LIGHTS];
+    vbl_vec3 kernel[VBL_PT_SHADOW_CONTROL_LIGHTS][VBL_MAX_MEDIA];
+    vbl_vec3 sum;
+    vbl_tracking_visit next;
+    void* next_user;
+} vbl_pt_control_flight;
+
+/* Starts the segment travelling along unit `direction`. */
+void vbl_pt_control_flight_begin(vbl_pt_control_flight* f, const vbl_render_context* ctx, vbl_vec3 direction,
+                                 vbl_tracking_visit next, void* next_user);
+/* The free flight's visitor (vbl_tracking_visit, user = the vbl_pt_control_flight): one tentative
+ * collision at p, rate mu, per-component extinctions (media order). */
+void vbl_pt_control_flight_visit(void* user, vbl_vec3 p, double mu, const double* per_component);
+/* Adds beta x the sum to *L. */
+void vbl_pt_control_flight_end(const vbl_pt_control_flight* f, vbl_vec3 beta, vbl_vec3* L);
 
 #endif
