@@ -54,6 +54,22 @@ static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, in
     return scene;
 }
 
+/* A second tt_make_sphere(16, 0.9) overlapping the unit sphere at the origin (half a radius to the
+ * right, 0.3 lower) at density_scale, albedo and g: two media of different albedo and phase
+ * function. Returns its volume (vt_free it after the scene). */
+static inline vbl_volume* pt_switch_add_overlapping_sphere(vbl_scene* scene, double density_scale, vbl_vec3 albedo,
+                                                           double g)
+{
+    vbl_volume* second = tt_make_sphere(16, 0.9);
+    vbl_affine shift;
+    memset(&shift, 0, sizeof shift);
+    shift.m[0][0] = shift.m[1][1] = shift.m[2][2] = 1.0;
+    shift.m[0][3] = 0.5;
+    shift.m[2][3] = -0.3;
+    assert_int_equal(vbl_scene_add_medium(scene, second, density_scale, albedo, g, &shift), VBL_SUCCESS);
+    return second;
+}
+
 /* pt with its defaults on pt_switch_scene at density scales 1e-8 (nothing scatters) and 1e6 (every
  * walk ends within a voxel): finite films summing to their beauty, with signal. */
 static inline void pt_switch_check_extremes(void)

@@ -123,13 +123,7 @@ static void test_two_media_volume_direct(void** state)
     (void)state;
     vbl_volume* volume;
     vbl_scene* scene = sun_sphere(3.0, 0.8, 0.3, &volume);
-    vbl_volume* second = tt_make_sphere(16, 0.9);
-    vbl_affine shift;
-    memset(&shift, 0, sizeof shift);
-    shift.m[0][0] = shift.m[1][1] = shift.m[2][2] = 1.0;
-    shift.m[0][3] = 0.5; /* half a radius to the right: the spheres overlap */
-    shift.m[2][3] = -0.3;
-    assert_int_equal(vbl_scene_add_medium(scene, second, 3.0, vbl_v3(0.5, 0.7, 0.9), -0.3, &shift), VBL_SUCCESS);
+    vbl_volume* second = pt_switch_add_overlapping_sphere(scene, 3.0, vbl_v3(0.5, 0.7, 0.9), -0.3);
     const double ratio = check_agreement(scene, (control_config){1, 2, 4, 0, 1}, K, VBL_CLASS_VOLUME_DIRECT);
     printf("two media: volume_direct standard error, control / off: %.2f\n", ratio);
     vbl_scene_release(scene);

@@ -18,7 +18,6 @@
 #include <cmocka.h>
 #include <math.h>
 #include <stdio.h>
-#include <string.h>
 
 #include "render_test_util.h"
 #include "surface_render_util.h"
@@ -169,13 +168,7 @@ static void test_two_media_agree(void** state)
     (void)state;
     vbl_volume* volume;
     vbl_scene* scene = two_sun_sphere(3.0, 1.0, 0.5, 0, &volume);
-    vbl_volume* second = tt_make_sphere(16, 0.9);
-    vbl_affine shift;
-    memset(&shift, 0, sizeof shift);
-    shift.m[0][0] = shift.m[1][1] = shift.m[2][2] = 1.0;
-    shift.m[0][3] = 0.5; /* half a radius to the right: the spheres overlap */
-    shift.m[2][3] = -0.3;
-    assert_int_equal(vbl_scene_add_medium(scene, second, 3.0, vbl_v3(0.3, 0.5, 0.7), -0.4, &shift), VBL_SUCCESS);
+    vbl_volume* second = pt_switch_add_overlapping_sphere(scene, 3.0, vbl_v3(0.3, 0.5, 0.7), -0.4);
     const double ratio = check_agreement(scene, (flight_config){1, 1, 16, 0, 0}, K, VBL_CLASS_VOLUME_FROM_VOLUME);
     printf("two media: volume_from_volume standard error, flight / off: %.2f\n", ratio);
     vbl_scene_release(scene);

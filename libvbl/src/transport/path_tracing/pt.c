@@ -588,9 +588,11 @@ void vbl_pt_camera_sample(const vbl_render_context* ctx, const void* store, vbl_
              * bounce limit to check: a path stops at its last vertex, so a flight always reaches
              * a vertex it keeps. */
             vbl_pt_path reached = path;
-            vbl_pt_vertex(&reached, 0);
             vbl_pt_control_flight cf;
-            segment_control = control_flight && path.events >= 1 && vbl_ctx_wants(ctx, vbl_pt_class(&reached));
+            if (control_flight && path.events >= 1) {
+                vbl_pt_vertex(&reached, 0);
+                segment_control = vbl_ctx_wants(ctx, vbl_pt_class(&reached));
+            }
             if (segment_control) {
                 vbl_pt_control_flight_begin(&cf, ctx, direction, visit, visit_user);
                 visit = vbl_pt_control_flight_visit;
