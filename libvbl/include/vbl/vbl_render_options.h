@@ -277,7 +277,7 @@ typedef enum vbl_render_option_effect {
       "--pt-shadow-control-flight", 1, 0, 1, 0, NULL, HASH,                                                 \
       "pt.shadow_control at the vertices after the first scattering event: the control's single "          \
       "scattering summed over the free flight's tentative collisions (escaping flights too), the "         \
-      "collision's shadow ray estimating T - T_c (one medium of constant albedo; unbiased)")               \
+      "collision's shadow ray estimating T - T_c (media of constant albedo; unbiased)")                    \
     X(pt., pt_light_focus, light_focus, double, DOUBLE, "pt.light_focus", "--pt-light-focus", 0.25, 0, 0.5, \
       0, NULL, HASH,                                                                                         \
       "pt: share of scattered directions (at surfaces and at the first 4 medium events) drawn from cones "  \

@@ -230,25 +230,22 @@ static void vbl_pt_next_event_medium(const vbl_render_context* ctx, vbl_thread_s
     const vbl_sun_grid* control = vbl_pt_shadow_control_of(ctx, light); /* pt.shadow_control */
     if (control && control_first && path->events == 1) /* vbl_pt_shadow_control_walk added T_c's part */
         T = vbl_ctx_transmittance(ctx, ts, x, ls.wi, ls.distance, rng) - vbl_sun_grid_eval(control, x);
-    else if (control && segment_control) { /* the flight summed T_c's part (pt.shadow_control_flight) */
-        const double Tc = vbl_sun_grid_eval(control, x);
+    else if (control && (segment_control || rr_ref > 0.0)) {
+        /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c), less the part `summed` that the free
+         * flight to x already added (pt.shadow_control_flight: T_c); a blocked ray's T is 0
+         * exactly, so it takes no roulette */
+        const double Tc = vbl_sun_grid_eval(control, x), summed = segment_control ? Tc : 0.0;
         if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) {
-            T = -Tc; /* T = 0 exactly: no roulette needed */
+            T = -summed;
         } else {
             const double q = rr_ref > 0.0 ? vbl_pt_survival_clamp(VBL_PT_SHADOW_CONTROL_RR_SCALE *
                                                                       vbl_pt_shadow_ratio(beta, phase, rr_ref),
                                                                   VBL_PT_SHADOW_CONTROL_RR_MIN)
                                           : 1.0;
-            if (q < 1.0 && vbl_rng_uniform(rng) >= q) return;
-            T = (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
+            T = Tc - summed;
+            if (!(q < 1.0 && vbl_rng_uniform(rng) >= q))
+                T += (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
         }
-    } else if (control && rr_ref > 0.0) { /* the roulette on T^ - T_c: E = T_c + (E[T^] - T_c) */
-        if (vbl_ctx_occluded(ctx, x, ls.wi, ls.distance)) return;
-        const double Tc = vbl_sun_grid_eval(control, x);
-        const double q = vbl_pt_survival_clamp(VBL_PT_SHADOW_CONTROL_RR_SCALE * vbl_pt_shadow_ratio(beta, phase, rr_ref),
-                                               VBL_PT_SHADOW_CONTROL_RR_MIN);
-        if (q < 1.0 && vbl_rng_uniform(rng) >= q) T = Tc;
-        else T = Tc + (vbl_ctx_media_transmittance(ctx, ts, x, ls.wi, ls.distance, &ctx->tracking, rng) - Tc) / q;
     } else {
         double q = 1.0;
         if (rr_ref > 0.0) {

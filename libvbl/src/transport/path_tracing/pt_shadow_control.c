@@ -60,6 +60,14 @@ static int vbl_pt_shadow_control_uniform(const vbl_render_context* ctx)
     return ctx->extinction->count == 1 && ctx->scene->media[0].albedo_volume[0] == NULL;
 }
 
+/* The NEE kernel of medium m towards the distant light with grid g, for a ray travelling along
+ * `direction`, over m's extinction: albedo HG(g, cos) (vbl_medium_phase_kernel's lobe) times L_i. */
+static vbl_vec3 vbl_pt_shadow_control_kernel(const vbl_medium* m, const vbl_light* light, const vbl_sun_grid* g,
+                                             vbl_vec3 direction)
+{
+    return vbl_v3_scale(vbl_v3_mul(m->albedo, light->color), vbl_hg_eval(m->g, vbl_v3_dot(direction, g->w)));
+}
+
 void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state* ts, const vbl_pt_split_walk* walk,
                                 vbl_vec3 origin, vbl_vec3 direction, double u, vbl_vec3 beta, vbl_vec3* L)
 {
@@ -78,13 +86,13 @@ void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state*
                 prev = walk->cum[i];
                 if (w > 0.0) sum += w * vbl_sun_grid_eval(g, vbl_v3_madd(origin, direction, walk->t[i]));
             }
-            /* the forced point's NEE kernel over sigma_s: albedo HG(g, cos) / mean albedo (pt.c's
-             * beta W sigma_t / sigma_s times kernel / sigma_t, with one medium) */
-            const vbl_light* light = &scene->lights[l];
-            const double s = sum * vbl_hg_eval(m->g, vbl_v3_dot(direction, g->w)) / mean;
-            L->x += beta.x * m->albedo.x * light->color.x * s;
-            L->y += beta.y * m->albedo.y * light->color.y * s;
-            L->z += beta.z * m->albedo.z * light->color.z * s;
+            /* the forced point's NEE kernel over sigma_s: the kernel over sigma_t / mean albedo
+             * (pt.c's beta W sigma_t / sigma_s times kernel / sigma_t, with one medium) */
+            const vbl_vec3 k = vbl_pt_shadow_control_kernel(m, &scene->lights[l], g, direction);
+            const double s = sum / mean;
+            L->x += beta.x * k.x * s;
+            L->y += beta.y * k.y * s;
+            L->z += beta.z * k.z * s;
         }
         return;
     }
@@ -139,12 +147,8 @@ void vbl_pt_control_flight_begin(vbl_pt_control_flight* f, const vbl_render_cont
     for (int l = 0; l < scene->light_count; ++l) {
         const vbl_sun_grid* g = vbl_pt_shadow_control_of(ctx, &scene->lights[l]);
         if (!g) continue;
-        /* the collision's NEE kernel over sigma_c (vbl_medium_phase_kernel's lobe c), times L_i */
-        const double cos_l = vbl_v3_dot(direction, g->w);
-        for (int c = 0; c < f->media; ++c) {
-            const vbl_medium* m = &scene->media[c];
-            f->kernel[f->count][c] = vbl_v3_scale(vbl_v3_mul(m->albedo, scene->lights[l].color), vbl_hg_eval(m->g, cos_l));
-        }
+        for (int c = 0; c < f->media; ++c) /* the collision's NEE kernel over sigma_c */
+            f->kernel[f->count][c] = vbl_pt_shadow_control_kernel(&scene->media[c], &scene->lights[l], g, direction);
         f->grid[f->count++] = g;
     }
 }

@@ -80,9 +80,9 @@ void vbl_pt_shadow_control_walk(const vbl_render_context* ctx, vbl_thread_state*
  * the control as above). */
 int vbl_pt_shadow_control_flight_active(const vbl_render_context* ctx);
 
-/* The flight's state: per medium c and distant light l with a grid, the kernel albedo_c x colour_l
- * x HG(g_c, cos_l) (constant along the segment), and per light the sum over the tentative
- * collisions of sum_c k_cl sigma_c / mu x T_c,l (RGB); `next` (may be NULL) is another visitor the
+/* The flight's state: per distant light l with a grid and medium c, the kernel albedo_c x colour_l
+ * x HG(g_c, cos_l) (constant along the segment), and the sum over the tentative collisions of
+ * sum_l sum_c kernel_lc sigma_c / mu x T_c,l (RGB); `next` (may be NULL) is another visitor the
  * flight also feeds (volume emission). */
 typedef struct vbl_pt_control_flight {
     int media, count;
