@@ -54,6 +54,18 @@ static inline vbl_scene* pt_switch_scene(double density_scale, int quad_only, in
     return scene;
 }
 
+/* check_configs_deterministic on pt_switch_scene(2.0, 0, 12, 10): on1 (one thread) and on2 (two
+ * threads) bit-identical, off different from them. */
+static inline void pt_switch_check_deterministic(layer_stats_render render, const void* on1, const void* on2,
+                                                 const void* off)
+{
+    vbl_volume* volume;
+    vbl_scene* scene = pt_switch_scene(2.0, 0, 12, 10, &volume);
+    check_configs_deterministic(render, scene, on1, on2, off);
+    vbl_scene_release(scene);
+    vt_free(volume);
+}
+
 /* A second tt_make_sphere(16, 0.9) overlapping the unit sphere at the origin (half a radius to the
  * right, 0.3 lower) at density_scale, albedo and g: two media of different albedo and phase
  * function. Returns its volume (vt_free it after the scene). */

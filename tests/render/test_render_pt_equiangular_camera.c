@@ -94,12 +94,8 @@ static void test_walk_product(void** state)
 static void test_deterministic_and_active(void** state)
 {
     (void)state;
-    vbl_volume* volume;
-    vbl_scene* scene = pt_switch_scene(2.0, 0, 12, 10, &volume);
     const eq_config on1 = {3, 1, 2, 2, 1, 0}, on2 = {3, 1, 2, 2, 2, 0}, off = {1, 1, 2, 2, 2, 0};
-    check_configs_deterministic(render_cfg, scene, &on1, &on2, &off);
-    vbl_scene_release(scene);
-    vt_free(volume);
+    pt_switch_check_deterministic(render_cfg, &on1, &on2, &off);
 }
 
 static void test_finite_at_extremes(void** state)

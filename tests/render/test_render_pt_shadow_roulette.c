@@ -45,12 +45,8 @@ static vbl_film* render_cfg(const vbl_scene* scene, const void* cfg_ptr, uint64_
 static void test_deterministic_and_active(void** state)
 {
     (void)state;
-    vbl_volume* volume;
-    vbl_scene* scene = pt_switch_scene(2.0, 0, 12, 10, &volume);
     const roulette_config on1 = {1, 2, 2, 1}, on2 = {1, 2, 2, 2}, off = {0, 2, 2, 2};
-    check_configs_deterministic(render_cfg, scene, &on1, &on2, &off);
-    vbl_scene_release(scene);
-    vt_free(volume);
+    pt_switch_check_deterministic(render_cfg, &on1, &on2, &off);
 }
 
 static void test_finite_at_extremes(void** state)
